@@ -1,0 +1,31 @@
+// Errors raised by the estimation core. Every failure of core/ is one of these, with a message
+// that names what was wrong; no function of core/ returns a NaN in place of an error.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace tofcomp::core {
+
+// Base of every error tofcomp raises on purpose.
+class Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& what) : std::runtime_error(what) {}
+};
+
+// The caller passed something the mathematics cannot take: mismatched lengths, NaN or Inf,
+// too few samples, an order out of range.
+class InvalidInput : public Error {
+ public:
+  explicit InvalidInput(const std::string& what) : Error(what) {}
+};
+
+// The data were well formed but the problem they pose has no unique answer: a singular normal
+// matrix (too few distinct temperatures for the basis), a mixture mode left without samples,
+// zero variance.
+class NumericalError : public Error {
+ public:
+  explicit NumericalError(const std::string& what) : Error(what) {}
+};
+
+}  // namespace tofcomp::core

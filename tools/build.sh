@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Configures and builds tofcomp into build/ (Release with debug info, warnings as errors).
+# Usage: tools/build.sh [extra cmake -D options]
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build="${TOFCOMP_BUILD_DIR:-$root/build}"
+jobs="${TOFCOMP_JOBS:-$(nproc)}"
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOFCOMP_WERROR=ON "$@" >/dev/null
+cmake --build "$build" --parallel "$jobs"
