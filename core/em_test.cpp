@@ -1,0 +1,92 @@
+#include "core/em_test.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/validation.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+// M-step of Eq. 23 (either form) given the responsibilities.
+double distance_m_step(MStep kind, const Eigen::VectorXd& corrected, const Eigen::MatrixXd& r,
+                       const MixtureParameters& m) {
+  if (kind == MStep::PaperAsPrinted) {
+    const Eigen::VectorXd c_inverse = (r * m.variance).cwiseInverse();
+    return c_inverse.dot(corrected) / c_inverse.sum();
+  }
+  const Eigen::MatrixXd w = r * m.variance.cwiseInverse().asDiagonal();
+  const Eigen::VectorXd total = w.rowwise().sum();
+  return (total.dot(corrected) - w.colwise().sum().dot(m.mean)) / total.sum();
+}
+
+// −d²ℓ/dd² of the mixture log-likelihood at d (Louis' identity, per sample):
+//   Σ_i r_i/σ_i² − Σ_i r_i e_i²/σ_i⁴ + (Σ_i r_i e_i/σ_i²)²,  e_i = y − Hθ − d − μ_i.
+double distance_std(const Eigen::VectorXd& corrected, double d, const Eigen::MatrixXd& r,
+                    const MixtureParameters& m) {
+  double observed = 0.0;
+  double complete = 0.0;
+  for (Eigen::Index k = 0; k < corrected.size(); ++k) {
+    double info = 0.0;
+    double second = 0.0;
+    double score = 0.0;
+    for (int i = 0; i < m.modes(); ++i) {
+      const double e = corrected[k] - d - m.mean[i];
+      const double inv_var = 1.0 / m.variance[i];
+      info += r(k, i) * inv_var;
+      second += r(k, i) * e * e * inv_var * inv_var;
+      score += r(k, i) * e * inv_var;
+    }
+    complete += info;
+    observed += info - second + score * score;
+  }
+  const double information = observed > 0.0 ? observed : complete;
+  return 1.0 / std::sqrt(information);
+}
+
+}  // namespace
+
+EmTestResult test_em(const Eigen::Ref<const Eigen::VectorXd>& y,
+                     const Eigen::Ref<const Eigen::VectorXd>& bias,
+                     const MixtureParameters& mixture, const EmTestOptions& options,
+                     std::optional<double> initial_distance) {
+  if (y.size() == 0) throw InvalidInput("EM testing needs at least one range");
+  require_same_length(y.size(), "y", bias.size(), "H theta");
+  require_finite(y, "y");
+  require_finite(bias, "H theta");
+  mixture.validate();
+  if (options.max_iterations < 1) throw InvalidInput("EM testing needs max_iterations >= 1");
+  if (!(options.distance_tolerance > 0.0)) {
+    throw InvalidInput("distance_tolerance must be positive");
+  }
+  if (initial_distance) require_finite(*initial_distance, "initial distance");
+
+  const Eigen::VectorXd corrected = y - bias;
+  EmTestResult result;
+  double d = initial_distance                          ? *initial_distance
+             : options.m_step == MStep::PaperAsPrinted ? y.mean()
+                                                       : corrected.mean() - mixture.mean_offset();
+  for (;;) {
+    // E-step, Eq. 22.
+    result.log_likelihood = mixture_e_step(corrected.array() - d, mixture, result.responsibilities);
+    if (result.iterations == options.max_iterations) break;
+    // M-step, Eq. 23.
+    const double next =
+        distance_m_step(options.m_step, corrected, result.responsibilities, mixture);
+    ++result.iterations;
+    if (options.record_trace) result.distance_trace.push_back(next);
+    const double change = std::abs(next - d);
+    d = next;
+    if (change < options.distance_tolerance) {
+      result.converged = true;
+      result.log_likelihood =
+          mixture_e_step(corrected.array() - d, mixture, result.responsibilities);
+      break;
+    }
+  }
+  result.distance = d;
+  result.distance_std = distance_std(corrected, d, result.responsibilities, mixture);
+  return result;
+}
+
+}  // namespace tofcomp::core

@@ -1,0 +1,48 @@
+// §6: EM testing — the distance d and the mode posteriors Δ̂ from ranges y, the trained bias
+// H θ̂ at each sample's junction temperature and the trained mode statistics (Eq. 21-23).
+//
+// MStep::Exact (default) maximizes the expected complete-data log-likelihood over d:
+//   d = Σ_k Σ_i (r_ki / σ_i²)(y_k − H_k θ̂ − μ_i) / Σ_k Σ_i r_ki / σ_i².
+// MStep::PaperAsPrinted is Eq. 23 as printed: d = (1ᵀC⁻¹1)⁻¹ 1ᵀC⁻¹(y − Hθ̂), C = Σ_i σ_i² Σ_i;
+// it leaves out the mode offsets μ_i, so its d carries their weighted mean.
+// μ_i, σ_i² and π_i stay at their trained values, as the paper prescribes.
+// Cost: O(K·M) per iteration; the bias H θ̂ is computed once by the caller.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "core/em_train.hpp"
+#include "core/gaussian_mixture.hpp"
+
+namespace tofcomp::core {
+
+struct EmTestOptions {
+  MStep m_step = MStep::Exact;
+  double distance_tolerance = 1e-9;  // stop when |Δd| < this (data units)
+  int max_iterations = 500;
+  bool record_trace = false;
+};
+
+struct EmTestResult {
+  double distance = 0.0;
+  // Standard deviation of d from the observed information of the mixture likelihood
+  // (Louis' formula), falling back to the complete-data information if that is not positive.
+  double distance_std = 0.0;
+  Eigen::MatrixXd responsibilities;  // K × M, the Δ̂ of Eq. 22
+  double log_likelihood = 0.0;
+  int iterations = 0;
+  bool converged = false;
+  std::vector<double> distance_trace;  // d after each iteration (the paper's Fig. 14)
+};
+
+// y and bias (H θ̂) of one length K ≥ 1. Starts from initial_distance when given (a warm start
+// from the previous window), otherwise from the paper's d = 1ᵀy / K for PaperAsPrinted and from
+// mean(y − H θ̂) − Σ π_i μ_i for Exact.
+EmTestResult test_em(const Eigen::Ref<const Eigen::VectorXd>& y,
+                     const Eigen::Ref<const Eigen::VectorXd>& bias,
+                     const MixtureParameters& mixture, const EmTestOptions& options = {},
+                     std::optional<double> initial_distance = std::nullopt);
+
+}  // namespace tofcomp::core

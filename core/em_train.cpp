@@ -1,0 +1,267 @@
+#include "core/em_train.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/validation.hpp"
+#include "core/weighted_least_squares.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+constexpr double kRelativeVarianceFloor = 1e-6;
+
+struct MStepResult {
+  Eigen::VectorXd theta;
+  MixtureParameters mixture;
+};
+
+// σ_i² and π_i given θ, μ and the responsibilities (the closed-form part of Eq. 19).
+// When subtract_mean is false σ_i² is the weighted second moment of e, as Eq. 19 prints it.
+void update_variances_and_weights(const Eigen::VectorXd& residual, const Eigen::MatrixXd& r,
+                                  double floor, bool subtract_mean, MixtureParameters& m) {
+  const Eigen::Index k = residual.size();
+  m.variance.resize(m.mean.size());
+  m.weight.resize(m.mean.size());
+  for (int i = 0; i < m.modes(); ++i) {
+    const double mass = r.col(i).sum();
+    const double centre = subtract_mean ? m.mean[i] : 0.0;
+    const double second_moment = r.col(i).dot((residual.array() - centre).square().matrix()) / mass;
+    m.variance[i] = std::max(second_moment, floor);
+    m.weight[i] = mass / static_cast<double>(k);
+  }
+  m.weight /= m.weight.sum();
+}
+
+// Exact (ECM) M-step: maximizes Σ_k Σ_i r_ki [−(ỹ_k − H_k θ − μ_i)² / (2σ_i²)] jointly over
+// (θ, μ) with the previous σ², then σ² and π in closed form. The μ are profiled out of the
+// normal equations, and H is centred on its weighted mean first, so the reduced system
+// (G − Σ_i h_i h_iᵀ / s_i) θ = b − Σ_i h_i c_i / s_i stays well conditioned.
+MStepResult exact_m_step(const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::VectorXd& y,
+                         const Eigen::MatrixXd& r, const Eigen::VectorXd& previous_variance,
+                         double floor, Eigen::MatrixXd& scratch) {
+  const Eigen::MatrixXd w = r * previous_variance.cwiseInverse().asDiagonal();  // K × M
+  const Eigen::VectorXd total_weight = w.rowwise().sum();
+  const Eigen::ArrayXd sqrt_weight = total_weight.array().sqrt();
+  const Eigen::RowVectorXd column_mean = (total_weight.transpose() * h) / total_weight.sum();
+
+  scratch = sqrt_weight.matrix().asDiagonal() * (h.rowwise() - column_mean);
+  Eigen::MatrixXd g = gram(scratch);
+  Eigen::VectorXd b = scratch.transpose() * (sqrt_weight * y.array()).matrix();
+  const Eigen::MatrixXd mode_sums =
+      scratch.transpose() * (w.array().colwise() / sqrt_weight).matrix();  // p × M: h_i
+  const Eigen::VectorXd mode_mass = w.colwise().sum().transpose();         // s_i
+  const Eigen::VectorXd mode_target = w.transpose() * y;                   // c_i
+  for (Eigen::Index i = 0; i < w.cols(); ++i) {
+    g.noalias() -= mode_sums.col(i) * mode_sums.col(i).transpose() / mode_mass[i];
+    b.noalias() -= mode_sums.col(i) * (mode_target[i] / mode_mass[i]);
+  }
+
+  MStepResult out;
+  out.theta = solve_normal_equations(g, b, "the weighted normal matrix HᵀC⁻¹H of the M-step");
+  const double centred_bias = column_mean.dot(out.theta);
+  out.mixture.mean =
+      ((mode_target - mode_sums.transpose() * out.theta).array() / mode_mass.array()).matrix();
+  out.mixture.mean.array() -= centred_bias;
+  const Eigen::VectorXd residual = y - h * out.theta;
+  update_variances_and_weights(residual, r, floor, true, out.mixture);
+  return out;
+}
+
+// Eq. 19 exactly as printed (see the header for where it departs from a maximization).
+MStepResult paper_m_step(const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::VectorXd& y,
+                         const Eigen::MatrixXd& r, const Eigen::VectorXd& previous_variance,
+                         double floor, Eigen::MatrixXd& scratch) {
+  const Eigen::VectorXd c_diagonal = r * previous_variance;  // C = σ_1² Σ_1 + σ_2² Σ_2
+  const Eigen::VectorXd c_inverse = c_diagonal.cwiseInverse();
+  const Eigen::MatrixXd g = weighted_gram(h, c_inverse, scratch);
+  const Eigen::VectorXd b = h.transpose() * c_inverse.cwiseProduct(y);
+
+  MStepResult out;
+  out.theta = solve_normal_equations(g, b, "HᵀC⁻¹H of Eq. 19");
+  const Eigen::VectorXd residual = y - h * out.theta;
+  const Eigen::VectorXd mass = r.colwise().sum().transpose();
+  out.mixture.mean = ((r.transpose() * residual).array() / mass.array()).matrix();
+  update_variances_and_weights(residual, r, floor, false, out.mixture);
+  return out;
+}
+
+MStepResult m_step(MStep kind, const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::VectorXd& y,
+                   const Eigen::MatrixXd& r, const Eigen::VectorXd& previous_variance, double floor,
+                   Eigen::MatrixXd& scratch) {
+  return kind == MStep::Exact ? exact_m_step(h, y, r, previous_variance, floor, scratch)
+                              : paper_m_step(h, y, r, previous_variance, floor, scratch);
+}
+
+// Eq. 20.
+MStepResult paper_initialization(Eigen::Index columns) {
+  MStepResult init;
+  init.theta = Eigen::VectorXd::Zero(columns);
+  init.mixture.mean = Eigen::Vector2d(0.1, -0.1);
+  init.mixture.variance = Eigen::Vector2d(0.1, 0.1);
+  init.mixture.weight = Eigen::Vector2d(0.5, 0.5);
+  return init;
+}
+
+// θ and a constant by ordinary least squares (the exact M-step with one mode and unit
+// weights); the residual's M quantile groups give μ_i and σ_i².
+MStepResult quantile_initialization(const Eigen::Ref<const Eigen::MatrixXd>& h,
+                                    const Eigen::VectorXd& y, int modes, double floor,
+                                    Eigen::MatrixXd& scratch) {
+  const Eigen::Index k = y.size();
+  const MStepResult ls =
+      exact_m_step(h, y, Eigen::MatrixXd::Ones(k, 1), Eigen::VectorXd::Ones(1), floor, scratch);
+  std::vector<double> residual(static_cast<std::size_t>(k));
+  Eigen::Map<Eigen::VectorXd>(residual.data(), k) = y - h * ls.theta;
+  std::sort(residual.begin(), residual.end());
+
+  MStepResult init;
+  init.theta = ls.theta;
+  init.mixture.mean.resize(modes);
+  init.mixture.variance.resize(modes);
+  init.mixture.weight = Eigen::VectorXd::Constant(modes, 1.0 / modes);
+  for (int i = 0; i < modes; ++i) {
+    const auto begin = residual.begin() + static_cast<std::ptrdiff_t>(k * i / modes);
+    const auto end = residual.begin() + static_cast<std::ptrdiff_t>(k * (i + 1) / modes);
+    const double n = static_cast<double>(end - begin);
+    const double mean = std::accumulate(begin, end, 0.0) / n;
+    double spread = 0.0;
+    for (auto it = begin; it != end; ++it) spread += (*it - mean) * (*it - mean);
+    init.mixture.mean[i] = mean;
+    init.mixture.variance[i] = std::max(spread / n, floor);
+  }
+  return init;
+}
+
+void require_modes_populated(const Eigen::MatrixXd& r, double min_weight, int iteration) {
+  const double k = static_cast<double>(r.rows());
+  for (Eigen::Index i = 0; i < r.cols(); ++i) {
+    const double weight = r.col(i).sum() / k;
+    if (!(weight >= min_weight)) {
+      std::ostringstream msg;
+      msg << "EM training: at iteration " << iteration << " mode " << i + 1 << " of " << r.cols()
+          << " holds a fraction " << weight << " of the samples (minimum " << min_weight
+          << "): the data do not show " << r.cols() << " distinct lasing modes; train with fewer "
+          << "modes";
+      throw NumericalError(msg.str());
+    }
+  }
+}
+
+void validate_arguments(const Eigen::Ref<const Eigen::MatrixXd>& h,
+                        const Eigen::Ref<const Eigen::VectorXd>& y, const EmTrainOptions& o) {
+  require_same_length(h.rows(), "H (rows)", y.size(), "y - d");
+  require_finite(h, "H");
+  require_finite(y, "y - d");
+  if (o.modes < 1) throw InvalidInput("EM training needs at least one mode");
+  if (o.initialization == EmInitialization::Paper && o.modes != 2) {
+    throw InvalidInput("the paper's initial conditions (Eq. 20) are defined for two modes only");
+  }
+  if (o.max_iterations < 1) throw InvalidInput("EM training needs max_iterations >= 1");
+  if (!(o.weight_tolerance > 0.0)) throw InvalidInput("weight_tolerance must be positive");
+  if (!(o.log_likelihood_tolerance >= 0.0)) {
+    throw InvalidInput("log_likelihood_tolerance must be non-negative");
+  }
+  if (!(o.min_mode_weight >= 0.0 && o.min_mode_weight < 1.0 / o.modes)) {
+    throw InvalidInput("min_mode_weight must be in [0, 1/M)");
+  }
+  const Eigen::Index parameters = h.cols() + 3 * o.modes - 1;
+  if (y.size() <= parameters) {
+    std::ostringstream msg;
+    msg << "EM training: " << y.size() << " samples cannot determine " << parameters
+        << " parameters (" << h.cols() << " basis columns and " << o.modes << " modes); at least "
+        << parameters + 1 << " are needed";
+    throw InvalidInput(msg.str());
+  }
+}
+
+// Orders the modes by increasing mean, so that results do not depend on label switching.
+void sort_modes(EmTrainResult& result) {
+  const int m = result.mixture.modes();
+  std::vector<int> order(static_cast<std::size_t>(m));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return result.mixture.mean[a] < result.mixture.mean[b]; });
+  auto permute = [&](const Eigen::VectorXd& v) {
+    Eigen::VectorXd out(m);
+    for (int i = 0; i < m; ++i) out[i] = v[order[static_cast<std::size_t>(i)]];
+    return out;
+  };
+  result.mixture.mean = permute(result.mixture.mean);
+  result.mixture.variance = permute(result.mixture.variance);
+  result.mixture.weight = permute(result.mixture.weight);
+  Eigen::MatrixXd r(result.responsibilities.rows(), m);
+  for (int i = 0; i < m; ++i)
+    r.col(i) = result.responsibilities.col(order[static_cast<std::size_t>(i)]);
+  result.responsibilities = std::move(r);
+  for (auto& record : result.trace) {
+    record.mean = permute(record.mean);
+    record.variance = permute(record.variance);
+    record.weight = permute(record.weight);
+  }
+}
+
+}  // namespace
+
+EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
+                       const Eigen::Ref<const Eigen::VectorXd>& y_minus_d,
+                       const EmTrainOptions& options) {
+  validate_arguments(h, y_minus_d, options);
+  const Eigen::VectorXd y = y_minus_d;
+  const Eigen::Index k = y.size();
+  const double variance = (y.array() - y.mean()).square().sum() / static_cast<double>(k);
+  if (!(variance > 0.0)) {
+    throw NumericalError(
+        "EM training: the ranges minus the distance have zero variance; a "
+        "mixture of lasing modes cannot be fitted to constant data");
+  }
+  const double floor = std::max(options.variance_floor, kRelativeVarianceFloor * variance);
+
+  Eigen::MatrixXd scratch;
+  MStepResult current = options.initialization == EmInitialization::Paper
+                            ? paper_initialization(h.cols())
+                            : quantile_initialization(h, y, options.modes, floor, scratch);
+
+  EmTrainResult result;
+  double previous_log_likelihood = -std::numeric_limits<double>::infinity();
+  double weight_change = std::numeric_limits<double>::infinity();
+  for (int iteration = 1;; ++iteration) {
+    // E-step (Eq. 18) at the current parameters.
+    const double log_likelihood =
+        mixture_e_step(y - h * current.theta, current.mixture, result.responsibilities);
+    if (options.record_trace) {
+      result.trace.push_back(
+          {current.mixture.mean, current.mixture.variance, current.mixture.weight, log_likelihood});
+    }
+    const bool likelihood_settled = options.log_likelihood_tolerance == 0.0 ||
+                                    std::abs(log_likelihood - previous_log_likelihood) <=
+                                        options.log_likelihood_tolerance * static_cast<double>(k);
+    if (weight_change < options.weight_tolerance && likelihood_settled) {
+      result.converged = true;
+      result.log_likelihood = log_likelihood;
+      break;
+    }
+    if (result.iterations == options.max_iterations) {
+      result.log_likelihood = log_likelihood;
+      break;
+    }
+    require_modes_populated(result.responsibilities, options.min_mode_weight, iteration);
+    // M-step (Eq. 19).
+    MStepResult next = m_step(options.m_step, h, y, result.responsibilities,
+                              current.mixture.variance, floor, scratch);
+    weight_change = (next.mixture.weight - current.mixture.weight).cwiseAbs().maxCoeff();
+    previous_log_likelihood = log_likelihood;
+    current = std::move(next);
+    ++result.iterations;
+  }
+  result.theta = std::move(current.theta);
+  result.mixture = std::move(current.mixture);
+  sort_modes(result);
+  return result;
+}
+
+}  // namespace tofcomp::core

@@ -1,0 +1,78 @@
+// §5: EM training of Eq. 8 — θ, the mode offsets μ_i, variances σ_i² and weights π_i from
+// ranges y with a known distance d and junction temperatures t̂^j (Eq. 13-20).
+//
+// Two M-steps:
+//   MStep::Exact (default) — an expectation-conditional-maximization step: (θ, μ_1..μ_M) solved
+//     jointly by weighted least squares with per-mode weights r_ki / σ_i², then σ_i² and π_i in
+//     closed form. Each step maximizes the expected complete-data log-likelihood over its block,
+//     so the observed log-likelihood never decreases (Meng & Rubin, 1993).
+//   MStep::PaperAsPrinted — Eq. 19 exactly as printed, for reproduction: C = Σ_i σ_i² Σ_i,
+//     θ = (HᵀC⁻¹H)⁻¹HᵀC⁻¹ỹ (with C's diagonal built from variances, not inverse variances,
+//     and without the mode offsets), μ_i the weighted mean of ỹ − Hθ, σ_i² its weighted second
+//     moment (μ_i not subtracted), π_i the mean responsibility. It is not a maximization step,
+//     so its likelihood may decrease; docs/em-m-step.md shows where the two differ.
+// Cost per iteration: O(K·p²) time (one weighted Gram matrix) and O(K·p + K·M) memory.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/gaussian_mixture.hpp"
+
+namespace tofcomp::core {
+
+enum class MStep { Exact, PaperAsPrinted };
+
+enum class EmInitialization {
+  // θ from an ordinary least-squares fit with a constant; the residual split at its
+  // quantiles into M equal groups gives μ_i and σ_i²; π_i = 1/M. Any M.
+  Quantiles,
+  // Eq. 20: θ = 0, μ = (0.1, −0.1), σ² = (0.1, 0.1), π = 0.5, in the data's units. M = 2 only.
+  Paper,
+};
+
+struct EmTrainOptions {
+  int modes = 2;
+  MStep m_step = MStep::Exact;
+  EmInitialization initialization = EmInitialization::Quantiles;
+  // The paper's stopping rule: max_i |Δπ_i| < weight_tolerance.
+  double weight_tolerance = 1e-5;
+  // Also required unless zero: |Δℓ| / K < this (the paper's rule alone can stop while θ moves).
+  double log_likelihood_tolerance = 1e-10;
+  int max_iterations = 1000;
+  // σ_i² is kept at or above max(variance_floor, 1e-6 × var(ỹ)), so that no mode can collapse
+  // onto a single quantized range value and make the likelihood unbounded.
+  double variance_floor = 0.0;
+  // A mode whose weight falls below this ends training with a NumericalError: the data do not
+  // show M modes.
+  double min_mode_weight = 1e-3;
+  bool record_trace = true;
+};
+
+// One row of the convergence record (the paper's Fig. 13).
+struct EmIterationRecord {
+  Eigen::VectorXd mean;
+  Eigen::VectorXd variance;
+  Eigen::VectorXd weight;
+  double log_likelihood = 0.0;  // at the parameters entering this iteration's E-step
+};
+
+struct EmTrainResult {
+  Eigen::VectorXd theta;
+  MixtureParameters mixture;         // modes sorted by increasing mean
+  Eigen::MatrixXd responsibilities;  // K × M, r_ki at the final parameters (Δ̂ of Eq. 18)
+  double log_likelihood = 0.0;       // at the final parameters
+  int iterations = 0;
+  bool converged = false;
+  std::vector<EmIterationRecord> trace;
+};
+
+// Trains on H (K × p, Eq. 17) and ỹ = y − d (K). Throws InvalidInput on bad arguments (NaN,
+// mismatched lengths, too few samples for p columns and M modes, M < 1, Paper initialization
+// with M ≠ 2) and NumericalError when the problem has no unique answer (zero variance, a
+// singular HᵀC⁻¹H, a mode losing every sample).
+EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
+                       const Eigen::Ref<const Eigen::VectorXd>& y_minus_d,
+                       const EmTrainOptions& options = {});
+
+}  // namespace tofcomp::core

@@ -1,0 +1,68 @@
+#include "core/estimators.hpp"
+
+#include <cmath>
+#include <optional>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/validation.hpp"
+
+namespace tofcomp::core {
+
+WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
+                                 const Eigen::Ref<const Eigen::VectorXd>& bias,
+                                 const MixtureParameters& mixture, Eigen::Index window,
+                                 Eigen::Index stride, const EmTestOptions& options) {
+  require_same_length(y.size(), "y", bias.size(), "H theta");
+  if (window < 1 || window > y.size()) {
+    std::ostringstream msg;
+    msg << "window length " << window << " must be between 1 and the " << y.size()
+        << " samples available";
+    throw InvalidInput(msg.str());
+  }
+  if (stride < 1) throw InvalidInput("window stride must be at least 1");
+
+  const Eigen::Index count = (y.size() - window) / stride + 1;
+  WindowEstimates out;
+  out.window = window;
+  out.start.reserve(static_cast<std::size_t>(count));
+  out.em_distance.resize(count);
+  out.em_distance_std.resize(count);
+  out.raw_mean.resize(count);
+  out.bias_corrected_mean.resize(count);
+  std::optional<double> warm_start;
+  for (Eigen::Index w = 0; w < count; ++w) {
+    const Eigen::Index first = w * stride;
+    const auto y_window = y.segment(first, window);
+    const auto bias_window = bias.segment(first, window);
+    const EmTestResult fit = test_em(y_window, bias_window, mixture, options, warm_start);
+    warm_start = fit.distance;
+    out.start.push_back(first);
+    out.em_distance[w] = fit.distance;
+    out.em_distance_std[w] = fit.distance_std;
+    out.raw_mean[w] = y_window.mean();
+    out.bias_corrected_mean[w] = (y_window - bias_window).mean();
+  }
+  return out;
+}
+
+ErrorMoments error_moments(const Eigen::Ref<const Eigen::VectorXd>& estimates,
+                           const Eigen::Ref<const Eigen::VectorXd>& truth) {
+  require_same_length(estimates.size(), "estimates", truth.size(), "true distances");
+  if (estimates.size() == 0) throw InvalidInput("error moments need at least one estimate");
+  require_finite(estimates, "estimates");
+  require_finite(truth, "true distances");
+  const Eigen::ArrayXd error = (estimates - truth).array();
+  const Eigen::ArrayXd absolute = error.abs();
+  const double n = static_cast<double>(error.size());
+  ErrorMoments m;
+  m.count = error.size();
+  m.mean_error = error.mean();
+  m.error_variance = (error - m.mean_error).square().sum() / n;
+  m.mean_absolute_error = absolute.mean();
+  m.absolute_error_variance = (absolute - m.mean_absolute_error).square().sum() / n;
+  m.rmse = std::sqrt(error.square().mean());
+  return m;
+}
+
+}  // namespace tofcomp::core

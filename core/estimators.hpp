@@ -1,0 +1,45 @@
+// §8.4: the three window estimators the paper compares (Fig. 16-19), on windows of any length,
+// and the moments of their errors.
+//   d̂          EM testing (§6, Eq. 21-23) on the window, warm-started from the previous window;
+//   ȳ          the window mean of the raw ranges;
+//   mean(y − Hθ̂)  the window mean corrected by the temperature bias alone.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/em_test.hpp"
+#include "core/gaussian_mixture.hpp"
+
+namespace tofcomp::core {
+
+struct WindowEstimates {
+  Eigen::Index window = 0;
+  std::vector<Eigen::Index> start;  // first sample of each window
+  Eigen::VectorXd em_distance;      // d̂
+  Eigen::VectorXd em_distance_std;
+  Eigen::VectorXd raw_mean;             // ȳ
+  Eigen::VectorXd bias_corrected_mean;  // mean of y − Hθ̂
+};
+
+// Every window of `window` consecutive samples starting at 0, stride, 2·stride, ... that fits
+// in y (stride 1: every window, as the paper's Fig. 16). O(K/stride · window · iterations).
+WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
+                                 const Eigen::Ref<const Eigen::VectorXd>& bias,
+                                 const MixtureParameters& mixture, Eigen::Index window,
+                                 Eigen::Index stride, const EmTestOptions& options = {});
+
+// The moments of Fig. 18-19 for estimates against the true distances.
+struct ErrorMoments {
+  Eigen::Index count = 0;
+  double mean_error = 0.0;
+  double error_variance = 0.0;
+  double mean_absolute_error = 0.0;
+  double absolute_error_variance = 0.0;
+  double rmse = 0.0;
+};
+
+ErrorMoments error_moments(const Eigen::Ref<const Eigen::VectorXd>& estimates,
+                           const Eigen::Ref<const Eigen::VectorXd>& truth);
+
+}  // namespace tofcomp::core

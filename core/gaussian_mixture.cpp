@@ -1,0 +1,84 @@
+#include "core/gaussian_mixture.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/validation.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+constexpr double kWeightSumTolerance = 1e-9;
+
+// log π_i − ½ log(2π σ_i²) − (e − μ_i)² / (2σ_i²) for every sample (rows) and mode (columns).
+void log_joint(const Eigen::Ref<const Eigen::VectorXd>& residual, const MixtureParameters& m,
+               Eigen::MatrixXd& out) {
+  const Eigen::Index k = residual.size();
+  out.resize(k, m.modes());
+  for (int i = 0; i < m.modes(); ++i) {
+    const double log_weight =
+        m.weight[i] > 0.0 ? std::log(m.weight[i]) : -std::numeric_limits<double>::infinity();
+    const double log_norm = -0.5 * std::log(2.0 * std::numbers::pi * m.variance[i]);
+    const double inv_two_var = 0.5 / m.variance[i];
+    out.col(i) = ((residual.array() - m.mean[i]).square() * -inv_two_var) + (log_weight + log_norm);
+  }
+}
+
+}  // namespace
+
+void MixtureParameters::validate() const {
+  if (mean.size() < 1 || variance.size() != mean.size() || weight.size() != mean.size()) {
+    std::ostringstream msg;
+    msg << "mixture has " << mean.size() << " means, " << variance.size() << " variances and "
+        << weight.size() << " weights: it needs one of each per mode, at least one mode";
+    throw InvalidInput(msg.str());
+  }
+  require_finite(mean, "mode mean");
+  require_finite(variance, "mode variance");
+  require_finite(weight, "mode weight");
+  for (int i = 0; i < modes(); ++i) {
+    if (!(variance[i] > 0.0)) {
+      std::ostringstream msg;
+      msg << "mode " << i + 1 << " has variance " << variance[i] << ": it must be positive";
+      throw InvalidInput(msg.str());
+    }
+    if (weight[i] < 0.0 || weight[i] > 1.0) {
+      std::ostringstream msg;
+      msg << "mode " << i + 1 << " has weight " << weight[i] << ": it must be in [0, 1]";
+      throw InvalidInput(msg.str());
+    }
+  }
+  if (std::abs(weight.sum() - 1.0) > kWeightSumTolerance) {
+    std::ostringstream msg;
+    msg << "mode weights sum to " << weight.sum() << ": they must sum to 1";
+    throw InvalidInput(msg.str());
+  }
+}
+
+double mixture_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                      const MixtureParameters& mixture, Eigen::MatrixXd& responsibilities) {
+  log_joint(residual, mixture, responsibilities);
+  const Eigen::VectorXd row_max = responsibilities.rowwise().maxCoeff();
+  responsibilities.colwise() -= row_max;
+  responsibilities = responsibilities.array().exp().matrix();
+  const Eigen::VectorXd row_sum = responsibilities.rowwise().sum();
+  responsibilities.array().colwise() /= row_sum.array();
+  const double log_likelihood = (row_max.array() + row_sum.array().log()).sum();
+  if (!std::isfinite(log_likelihood)) {
+    throw NumericalError(
+        "mixture log-likelihood is not finite: a residual is not finite or every mode has zero "
+        "weight");
+  }
+  return log_likelihood;
+}
+
+double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                              const MixtureParameters& mixture) {
+  Eigen::MatrixXd scratch;
+  return mixture_e_step(residual, mixture, scratch);
+}
+
+}  // namespace tofcomp::core

@@ -1,0 +1,35 @@
+// The Gaussian mixture of the lasing modes in Eq. 8 (M modes; the paper writes M = 2), and the
+// E-step shared by training (Eq. 18) and testing (Eq. 22).
+#pragma once
+
+#include <Eigen/Core>
+
+namespace tofcomp::core {
+
+// Mode i has offset mean[i] (μ_i), variance[i] (σ_i²) and weight[i]; the weights sum to one.
+// For M = 2 the paper's π is weight[1] and its Δ_k is the responsibility of mode 2.
+struct MixtureParameters {
+  Eigen::VectorXd mean;
+  Eigen::VectorXd variance;
+  Eigen::VectorXd weight;
+
+  int modes() const { return static_cast<int>(mean.size()); }
+  // Throws InvalidInput unless the three vectors have one length ≥ 1, the variances are
+  // positive, the weights are in [0, 1] and sum to one (to 1e-9), and every entry is finite.
+  void validate() const;
+  // Σ_i π_i μ_i: the mean noise offset.
+  double mean_offset() const { return weight.dot(mean); }
+};
+
+// E-step (Eq. 18, Eq. 22) on residuals e_k: the part of y_k the mixture must explain
+// (y_k − d − H_k θ). Fills responsibilities (K × M), r_ki = π_i N(e_k − μ_i, σ_i²) / δ_k, and
+// returns the log-likelihood Σ_k log δ_k. Computed by log-sum-exp, so a residual far in the
+// tails neither underflows every mode to zero nor yields NaN. O(K·M).
+double mixture_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                      const MixtureParameters& mixture, Eigen::MatrixXd& responsibilities);
+
+// Σ_k log Σ_i π_i N(e_k − μ_i, σ_i²), without keeping the responsibilities.
+double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                              const MixtureParameters& mixture);
+
+}  // namespace tofcomp::core
