@@ -1,0 +1,111 @@
+// Cost of EM training (§5) and testing (§6) against the number of samples K and basis
+// columns p. The bases are polynomial(1) + fourier(n), p = 1 + 2n, on a temperature ramp over
+// one Fourier period, so every p up to the paper's Fourier order 180 (p = 361) is well posed.
+// Training runs a fixed number of EM iterations so that times compare across K and p.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/basis.hpp"
+#include "core/em_test.hpp"
+#include "core/em_train.hpp"
+
+namespace {
+
+using tofcomp::core::Basis;
+using tofcomp::core::BasisKind;
+using tofcomp::core::BasisTerm;
+using tofcomp::core::PolynomialForm;
+using tofcomp::core::TemperatureScaling;
+
+constexpr double kLowC = 24.8;
+constexpr double kHighC = 28.8;
+constexpr int kTrainIterations = 10;
+
+Basis bench_basis(int columns) {
+  const int harmonics = (columns - 1) / 2;
+  return Basis({BasisTerm{BasisKind::Polynomial, 1, PolynomialForm::Legendre, 0.0},
+                BasisTerm{BasisKind::Fourier, harmonics, PolynomialForm::Legendre,
+                          1.0 / (kHighC - kLowC)}},
+               TemperatureScaling{0.5 * (kLowC + kHighC), 0.5 * (kHighC - kLowC)});
+}
+
+struct BenchData {
+  Eigen::VectorXd temperature;
+  Eigen::VectorXd y;
+};
+
+// Two modes 5 units apart on a linear bias, seeded.
+BenchData bench_data(Eigen::Index k) {
+  std::mt19937_64 rng(42);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::bernoulli_distribution mode(0.4);
+  BenchData d{Eigen::VectorXd::LinSpaced(k, kLowC, kHighC - 1e-6), Eigen::VectorXd(k)};
+  for (Eigen::Index i = 0; i < k; ++i) {
+    d.y[i] = -2.0 * (d.temperature[i] - kLowC) + (mode(rng) ? 3.0 : -2.0) + noise(rng);
+  }
+  return d;
+}
+
+// Time per EM training iteration: a fixed run of kTrainIterations iterations plus the
+// least-squares start; the counter reports the time divided by kTrainIterations + 1.
+void BM_EmTrainIteration(benchmark::State& state) {
+  const Eigen::Index k = state.range(0);
+  const int columns = static_cast<int>(state.range(1));
+  const BenchData data = bench_data(k);
+  const Eigen::MatrixXd h = bench_basis(columns).design_matrix(data.temperature);
+  tofcomp::core::EmTrainOptions options;
+  options.max_iterations = kTrainIterations;
+  options.weight_tolerance = 1e-300;
+  options.log_likelihood_tolerance = 0.0;
+  options.record_trace = false;
+  for (auto _ : state) {
+    auto fit = tofcomp::core::train_em(h, data.y, options);
+    benchmark::DoNotOptimize(fit.theta.data());
+  }
+  state.counters["K"] = static_cast<double>(k);
+  state.counters["p"] = columns;
+  state.counters["s_per_iteration"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * (kTrainIterations + 1),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+// Time of EM testing of one window of K samples (the bias Hθ̂ is precomputed, as in use).
+void BM_EmTest(benchmark::State& state) {
+  const Eigen::Index k = state.range(0);
+  const BenchData data = bench_data(k);
+  const Eigen::VectorXd bias = -2.0 * (data.temperature.array() - kLowC);
+  tofcomp::core::MixtureParameters mixture;
+  mixture.mean = Eigen::Vector2d(-2.0, 3.0);
+  mixture.variance = Eigen::Vector2d(1.0, 1.0);
+  mixture.weight = Eigen::Vector2d(0.6, 0.4);
+  tofcomp::core::EmTestOptions options;
+  int iterations = 0;
+  for (auto _ : state) {
+    auto fit = tofcomp::core::test_em(data.y, bias, mixture, options);
+    iterations = fit.iterations;
+    benchmark::DoNotOptimize(fit.distance);
+  }
+  state.counters["K"] = static_cast<double>(k);
+  state.counters["em_iterations"] = iterations;
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * k);
+}
+
+void train_grid(benchmark::internal::Benchmark* b) {
+  for (const int columns : {3, 17, 61, 361}) {
+    for (const int64_t k : {1000, 3000, 10000, 30000, 100000}) {
+      if (k > columns * 2) b->Args({k, columns});
+    }
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_EmTrainIteration)->Apply(train_grid)->Unit(benchmark::kMillisecond)->MinTime(0.2);
+BENCHMARK(BM_EmTest)
+    ->RangeMultiplier(10)
+    ->Range(200, 200000)
+    ->Arg(400)
+    ->Arg(800)
+    ->Unit(benchmark::kMicrosecond);

@@ -1,0 +1,21 @@
+// Writing a file so that a crash at any moment leaves either the old file or the new one,
+// never a torn one: write a temporary file beside it, fsync it, rename it over the target,
+// fsync the directory.
+#pragma once
+
+#include <functional>
+#include <ostream>
+#include <string>
+#include <string_view>
+
+namespace tofcomp::io {
+
+// Throws core::Error naming the file and the system error on any failure; the temporary file
+// is removed then.
+void write_file_atomically(const std::string& file, std::string_view contents);
+
+// The same, for writers that stream: `write` fills the stream.
+void write_file_atomically(const std::string& file,
+                           const std::function<void(std::ostream&)>& write);
+
+}  // namespace tofcomp::io

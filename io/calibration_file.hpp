@@ -1,0 +1,42 @@
+// The calibration file: the contract between training (`tofcomp train`) and everything that
+// compensates (`tofcomp test`, the daemon). YAML with a versioned schema; every parameter
+// carries its unit in its key. Reference: docs/calibration-file.md.
+#pragma once
+
+#include <string>
+
+#include "core/measurement_model.hpp"
+#include "core/kalman.hpp"
+#include "core/thermal_model.hpp"
+
+namespace tofcomp::io {
+
+inline constexpr const char* kCalibrationSchema = "tofcomp-calibration";
+inline constexpr int kCalibrationVersion = 1;
+
+struct Provenance {
+  std::string data_set;          // the measured data trained on
+  std::string created_utc;       // ISO 8601
+  std::string software_version;  // tofcomp's version
+  long samples = 0;              // ranges used for training
+  std::string notes;
+};
+
+struct Calibration {
+  core::ThermalParameters thermal{};
+  core::ThermalNoise noise;  // of the junction-temperature Kalman filter (§3.3)
+  double ambient_c = 22.0;  // used when the data carry no ambient column
+  core::MeasurementModel model;
+  Provenance provenance;
+};
+
+// Writes atomically (temporary file, fsync, rename, fsync of the directory): a crash at any
+// moment leaves the old file or the new one.
+void write_calibration_file(const std::string& file, const Calibration& calibration);
+std::string calibration_to_yaml(const Calibration& calibration);
+
+// Throws YamlSchemaError naming the file and key: another schema or version, a missing or
+// unknown key, a value out of range (θ not matching the basis, weights not summing to one).
+Calibration read_calibration_file(const std::string& file);
+
+}  // namespace tofcomp::io

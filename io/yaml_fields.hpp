@@ -1,0 +1,56 @@
+// Strict reading of YAML documents (scenarios, calibration files, the daemon's config): every
+// error names the key path ("thermal.r1_k_per_w") and the reason, and an unknown key is an
+// error, so a typo never silently falls back to a default.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include "core/error.hpp"
+
+namespace tofcomp::io {
+
+// A YAML document that does not fit its schema. The message starts with the source and path.
+class YamlSchemaError : public core::Error {
+ public:
+  explicit YamlSchemaError(const std::string& what) : core::Error(what) {}
+};
+
+// A mapping node at a key path, checked against the keys its schema allows.
+class YamlMap {
+ public:
+  // Throws YamlSchemaError unless node is a mapping whose keys are all in `allowed`.
+  YamlMap(const YAML::Node& node, std::string path, std::initializer_list<std::string_view> allowed);
+
+  bool has(std::string_view key) const;
+  const std::string& path() const { return path_; }
+  std::string child_path(std::string_view key) const;
+
+  // Required values: a missing key or a value of the wrong type is an error naming the path.
+  double number(std::string_view key) const;
+  long integer(std::string_view key) const;
+  bool boolean(std::string_view key) const;
+  std::string text(std::string_view key) const;
+  YAML::Node node(std::string_view key) const;
+
+  // Optional values: the fallback when the key is absent, an error when present but wrong.
+  double number_or(std::string_view key, double fallback) const;
+  long integer_or(std::string_view key, long fallback) const;
+  bool boolean_or(std::string_view key, bool fallback) const;
+  std::string text_or(std::string_view key, std::string fallback) const;
+
+  [[noreturn]] void fail(std::string_view key, std::string_view why) const;
+
+ private:
+  YAML::Node node_;
+  std::string path_;
+};
+
+// Loads a YAML file; a missing file or a syntax error is a YamlSchemaError naming the file and
+// the line.
+YAML::Node load_yaml_file(const std::string& file);
+
+}  // namespace tofcomp::io

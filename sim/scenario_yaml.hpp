@@ -1,0 +1,13 @@
+// Loads a twin scenario from YAML (config/scenarios/*.yaml; the keys are documented in
+// docs/scenarios.md). Unknown keys and out-of-range values are errors naming the file and key.
+#pragma once
+
+#include <string>
+
+#include "sim/scenario.hpp"
+
+namespace tofcomp::sim {
+
+Scenario load_scenario_file(const std::string& file);
+
+}  // namespace tofcomp::sim
