@@ -1,0 +1,41 @@
+// tofcomp train DATA --datasheet D.yaml -o CALIBRATION.yaml: thermal identification, the
+// Kalman-smoothed junction temperature and EM training (§3, §5) into a calibration file.
+#include "cli/command.hpp"
+#include "cli/progress.hpp"
+#include "cli/report_format.hpp"
+#include "cli/shared_options.hpp"
+
+namespace tofcomp::cli {
+
+void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
+  auto* cmd = app.add_subcommand(
+      "train", "Train a calibration (thermal model, basis, θ, lasing modes) on data with a "
+               "known distance, and write it as a calibration file");
+  auto data = add_data_options(*cmd);
+  auto training = add_training_options(*cmd);
+  auto output = std::make_shared<std::string>();
+  cmd->add_option("-o,--output", *output, "Calibration file to write (YAML)")->required();
+  cmd->callback([&common, &run, data, training, output] {
+    run = [&common, data, training, output] {
+      Progress progress("train", !common.quiet);
+      const MeasuredData measured = data->load();
+      progress.update(0.1, "thermal fit, junction temperature, EM");
+      const Training t = train_calibration(measured, training->settings());
+      io::write_calibration_file(*output, t.calibration);
+      progress.done("wrote " + *output);
+      CommandResult result;
+      result.json = {{"calibration", to_json(t.calibration)},
+                     {"thermal_fit", to_json(t.thermal)},
+                     {"em_iterations", t.em.iterations},
+                     {"em_converged", t.em.converged},
+                     {"log_likelihood", t.em.log_likelihood},
+                     {"output", *output}};
+      result.text = thermal_fit_text(t.thermal) + calibration_text(t.calibration) +
+                    "EM: " + std::to_string(t.em.iterations) + " iterations" +
+                    (t.em.converged ? "" : " (cap reached)") + "\nwrote " + *output + "\n";
+      return result;
+    };
+  });
+}
+
+}  // namespace tofcomp::cli

@@ -1,0 +1,22 @@
+// The data behind the paper's figures, written as CSV files into a directory, for plotting:
+//   samples.csv          per range: time, y, junction t̂^j, bias Hθ̂, posterior of each mode,
+//                        the mode-compensated range (Fig. 4, 11, 12)
+//   windows_<W>.csv      per window: start, d̂, its std, ȳ, mean(y − Hθ̂), truth (Fig. 16-17)
+//   thermal_fit.csv      held-out case temperature measured and predicted (Fig. 8)
+//   em_convergence.csv   per EM iteration: μ_i, σ_i², π_i, log-likelihood (Fig. 13)
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cli/measured_data.hpp"
+#include "cli/pipeline.hpp"
+
+namespace tofcomp::cli {
+
+void write_figure_data(const std::string& directory, const MeasuredData& test,
+                       const io::Calibration& calibration, const Compensation& compensation,
+                       const std::vector<WindowEvaluation>& windows, const ThermalFit* thermal,
+                       const core::EmTrainResult* training);
+
+}  // namespace tofcomp::cli

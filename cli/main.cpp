@@ -1,0 +1,53 @@
+// tofcomp: the command line over measured data — simulate, thermal-fit, train, select, test,
+// evaluate. Results go to stdout (text, or JSON with --json); progress and errors to stderr.
+// Exit status: 0 success, 1 the work failed (the message says why), 2 bad command line.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+#include "cli/command.hpp"
+#include "cli/version.hpp"
+#include "core/error.hpp"
+
+int main(int argc, char** argv) {
+  using namespace tofcomp::cli;
+  CLI::App app{
+      "tofcomp: temperature and mode-hopping compensation for time-of-flight LiDARs "
+      "(Alhashimi et al., Sensors 2015)"};
+  app.set_version_flag("--version", kVersion);
+  app.require_subcommand(1);
+  app.fallthrough();  // --json and --quiet also after the subcommand
+  CommonOptions common;
+  app.add_flag("--json", common.json, "Print the result as JSON on stdout");
+  app.add_flag("-q,--quiet", common.quiet, "Do not show progress on stderr");
+
+  CommandRunner run;
+  register_simulate(app, common, run);
+  register_thermal_fit(app, common, run);
+  register_train(app, common, run);
+  register_select(app, common, run);
+  register_test(app, common, run);
+  register_evaluate(app, common, run);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+
+  const std::string name = app.get_subcommands().front()->get_name();
+  try {
+    const CommandResult result = run();
+    if (common.json) {
+      std::cout << result.json.dump(2) << "\n";
+    } else {
+      std::cout << result.text;
+    }
+    return 0;
+  } catch (const tofcomp::core::Error& e) {
+    std::fprintf(stderr, "tofcomp %s: error: %s\n", name.c_str(), e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tofcomp %s: internal error: %s\n", name.c_str(), e.what());
+  }
+  return 1;
+}

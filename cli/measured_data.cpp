@@ -1,0 +1,194 @@
+#include "cli/measured_data.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace tofcomp::cli {
+namespace {
+
+// The readings' prior at the first instant: ±0.5 °C on the case, ±2 °C on the junction.
+constexpr double kPriorCaseStdC = 0.5;
+constexpr double kPriorJunctionStdC = 2.0;
+
+template <typename T>
+std::vector<T> in_window(const std::vector<T>& events, double begin, double end) {
+  std::vector<T> out;
+  for (const auto& e : events) {
+    if (e.first >= begin && e.first < end) out.push_back(e);
+  }
+  return out;
+}
+
+}  // namespace
+
+bool MeasuredData::power_on_at(double time_s) const {
+  bool on = true;
+  for (const auto& [t, state] : power_changes) {
+    if (t > time_s) break;
+    on = state;
+  }
+  return on;
+}
+
+double MeasuredData::ambient_at(double time_s, double fallback_c) const {
+  if (ambient.empty()) return fallback_c;
+  double value = ambient.front().second;
+  for (const auto& [t, c] : ambient) {
+    if (t > time_s) break;
+    value = c;
+  }
+  return value;
+}
+
+void MeasuredData::require_true_ranges() const {
+  for (std::size_t k = 0; k < has_true_range.size(); ++k) {
+    if (!has_true_range[k]) {
+      std::ostringstream msg;
+      msg << source << ": line " << (k < range_line.size() ? range_line[k] : 0)
+          << ": range of beam " << beam
+          << " has no true_range_mm in force; training and evaluation need the reference "
+             "distance of every range";
+      throw core::InvalidInput(msg.str());
+    }
+  }
+  if (range_mm.size() == 0) {
+    throw core::InvalidInput(source + ": no ranges for beam " + std::to_string(beam));
+  }
+}
+
+MeasuredData MeasuredData::slice(double begin_s, double end_s) const {
+  MeasuredData out;
+  out.source = source;
+  out.beam = beam;
+  std::vector<Eigen::Index> ranges;
+  for (Eigen::Index k = 0; k < range_time_s.size(); ++k) {
+    if (range_time_s[k] >= begin_s && range_time_s[k] < end_s) ranges.push_back(k);
+  }
+  out.range_time_s = range_time_s(ranges);
+  out.range_mm = range_mm(ranges);
+  out.true_range_mm = true_range_mm(ranges);
+  for (const auto k : ranges) {
+    out.has_true_range.push_back(has_true_range[static_cast<std::size_t>(k)]);
+    out.range_line.push_back(range_line.empty() ? 0 : range_line[static_cast<std::size_t>(k)]);
+  }
+  std::vector<Eigen::Index> readings;
+  for (Eigen::Index k = 0; k < temperature_time_s.size(); ++k) {
+    if (temperature_time_s[k] >= begin_s && temperature_time_s[k] < end_s) readings.push_back(k);
+  }
+  out.temperature_time_s = temperature_time_s(readings);
+  out.case_c = case_c(readings);
+  // The power state in force at begin_s carries into the slice as a change at begin_s.
+  out.power_changes.emplace_back(begin_s, power_on_at(begin_s));
+  for (const auto& e : in_window(power_changes, begin_s, end_s)) {
+    if (e.first > begin_s) out.power_changes.push_back(e);
+  }
+  if (!ambient.empty()) {
+    out.ambient.emplace_back(begin_s, ambient_at(begin_s, 0.0));
+    for (const auto& e : in_window(ambient, begin_s, end_s)) {
+      if (e.first > begin_s) out.ambient.push_back(e);
+    }
+  }
+  return out;
+}
+
+core::CaseTemperatureLog case_log(const MeasuredData& data, double ambient_fallback_c) {
+  const Eigen::Index k = data.temperature_time_s.size();
+  if (k < 2) {
+    throw core::InvalidInput(data.source + ": needs case_temp_c readings (found " +
+                             std::to_string(k) + ")");
+  }
+  core::CaseTemperatureLog log;
+  log.times_s = data.temperature_time_s;
+  log.case_c = data.case_c;
+  log.power_on_fraction.resize(k);
+  log.ambient_c.resize(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    log.power_on_fraction[i] = data.power_on_at(log.times_s[i]) ? 1.0 : 0.0;
+    log.ambient_c[i] = data.ambient_at(log.times_s[i], ambient_fallback_c);
+  }
+  return log;
+}
+
+JunctionEstimate junction_at_ranges(const MeasuredData& data,
+                                    const core::ThermalParameters& thermal,
+                                    const core::ThermalNoise& noise, double ambient_fallback_c) {
+  if (data.temperature_time_s.size() == 0) {
+    throw core::InvalidInput(data.source +
+                             ": no case_temp_c readings: the junction temperature cannot be "
+                             "estimated (§3.3)");
+  }
+  // Merge readings and ranges in time; a reading sorts before a range at the same instant.
+  struct Instant {
+    double time_s;
+    bool reading;
+    Eigen::Index index;
+  };
+  std::vector<Instant> grid;
+  grid.reserve(static_cast<std::size_t>(data.temperature_time_s.size() + data.range_time_s.size()));
+  for (Eigen::Index i = 0; i < data.temperature_time_s.size(); ++i) {
+    grid.push_back({data.temperature_time_s[i], true, i});
+  }
+  for (Eigen::Index i = 0; i < data.range_time_s.size(); ++i) {
+    grid.push_back({data.range_time_s[i], false, i});
+  }
+  std::stable_sort(grid.begin(), grid.end(), [](const Instant& a, const Instant& b) {
+    return a.time_s < b.time_s || (a.time_s == b.time_s && a.reading && !b.reading);
+  });
+
+  const auto n = static_cast<Eigen::Index>(grid.size());
+  Eigen::VectorXd times(n), power(n), ambient(n), reading(n);
+  std::vector<bool> measured(static_cast<std::size_t>(n));
+  for (Eigen::Index g = 0; g < n; ++g) {
+    const Instant& at = grid[static_cast<std::size_t>(g)];
+    times[g] = at.time_s;
+    power[g] = data.power_on_at(at.time_s) ? 1.0 : 0.0;
+    ambient[g] = data.ambient_at(at.time_s, ambient_fallback_c);
+    reading[g] = at.reading ? data.case_c[at.index] : 0.0;
+    measured[static_cast<std::size_t>(g)] = at.reading;
+  }
+  const core::ThermalBelief prior = core::prior_at_case_temperature(
+      thermal, data.case_c[0], power[0], kPriorCaseStdC, kPriorJunctionStdC);
+  const core::SmoothedThermalRecord smoothed =
+      core::smooth_thermal_record(thermal, noise, prior, times, power, ambient, reading, measured);
+
+  JunctionEstimate out;
+  out.junction_c.resize(data.range_time_s.size());
+  out.junction_std_c.resize(data.range_time_s.size());
+  for (Eigen::Index g = 0; g < n; ++g) {
+    const Instant& at = grid[static_cast<std::size_t>(g)];
+    if (at.reading) continue;
+    out.junction_c[at.index] = smoothed.junction_mean_c[g];
+    out.junction_std_c[at.index] = smoothed.junction_std_c[g];
+  }
+  return out;
+}
+
+double split_time(const MeasuredData& data, double fraction) {
+  double first = std::numeric_limits<double>::infinity();
+  double last = -std::numeric_limits<double>::infinity();
+  auto extend = [&](const Eigen::VectorXd& t) {
+    if (t.size() == 0) return;
+    first = std::min(first, t[0]);
+    last = std::max(last, t[t.size() - 1]);
+  };
+  extend(data.range_time_s);
+  extend(data.temperature_time_s);
+  if (!(last > first)) throw core::InvalidInput(data.source + ": the data span no time");
+  const double target = first + fraction * (last - first);
+  double best = target;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (const auto& [t, on] : data.power_changes) {
+    if (on && t > first && std::abs(t - target) < best_distance) {
+      best = t;
+      best_distance = std::abs(t - target);
+    }
+  }
+  return best;
+}
+
+}  // namespace tofcomp::cli

@@ -1,0 +1,114 @@
+#include "cli/shared_options.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+#include "cli/measured_data_csv.hpp"
+#include "core/error.hpp"
+#include "io/datasheet_file.hpp"
+
+namespace tofcomp::cli {
+
+MeasuredData DataOptions::load() const {
+  std::vector<std::string> warnings;
+  MeasuredData data = read_measured_data(file, beam, warnings);
+  for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  return data;
+}
+
+std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd) {
+  auto o = std::make_shared<DataOptions>();
+  cmd.add_option("data", o->file, "Measured data (interchange CSV)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--beam", o->beam, "Beam index to analyse")->capture_default_str();
+  return o;
+}
+
+ThermalFitSettings ThermalOptions::settings() const {
+  ThermalFitSettings s;
+  s.datasheet = io::read_datasheet_file(datasheet);
+  s.ambient_fallback_c = ambient_c;
+  s.free = core::ThermalParameterMask{false, false, false, false, false};
+  std::istringstream in(free);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    if (name == "r1") {
+      s.free.r1 = true;
+    } else if (name == "r2") {
+      s.free.r2 = true;
+    } else if (name == "c1") {
+      s.free.c1 = true;
+    } else if (name == "c2") {
+      s.free.c2 = true;
+    } else if (name == "p") {
+      s.free.power = true;
+    } else {
+      throw core::InvalidInput("--free: '" + name + "' is not one of r1, r2, c1, c2, p");
+    }
+  }
+  return s;
+}
+
+std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd) {
+  auto o = std::make_shared<ThermalOptions>();
+  cmd.add_option("--datasheet", o->datasheet,
+                 "Algorithm 1 inputs (YAML, e.g. config/lms200-datasheet.yaml): the start of "
+                 "the thermal fit")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd.add_option("--free", o->free,
+                 "Thermal parameters the prediction-error method fits, of r1,r2,c1,c2,p")
+      ->capture_default_str();
+  cmd.add_option("--ambient", o->ambient_c, "Ambient °C when the data carry no ambient_c")
+      ->capture_default_str();
+  return o;
+}
+
+TrainSettings TrainingOptions::settings() const {
+  TrainSettings s;
+  s.thermal = thermal->settings();
+  s.basis = basis;
+  s.em.modes = modes;
+  s.em.max_iterations = max_iterations;
+  s.em.m_step = paper_m_step ? core::MStep::PaperAsPrinted : core::MStep::Exact;
+  s.em.initialization =
+      paper_init ? core::EmInitialization::Paper : core::EmInitialization::Quantiles;
+  return s;
+}
+
+std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd) {
+  auto o = std::make_shared<TrainingOptions>();
+  o->thermal = add_thermal_options(cmd);
+  cmd.add_option("--basis", o->basis,
+                 "H(.): polynomial:N[:legendre|raw], fourier:N:F0, joined by +")
+      ->capture_default_str();
+  cmd.add_option("--modes", o->modes, "Lasing modes M")->capture_default_str()->check(
+      CLI::Range(1, 10));
+  cmd.add_flag("--paper-m-step", o->paper_m_step, "Use Eq. 19 as printed (docs/em-m-step.md)");
+  cmd.add_flag("--paper-init", o->paper_init, "Start from Eq. 20 (two modes only)");
+  cmd.add_option("--max-iterations", o->max_iterations, "EM iteration cap")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  return o;
+}
+
+std::vector<Eigen::Index> parse_windows(const std::string& list) {
+  std::vector<Eigen::Index> out;
+  std::istringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      std::size_t used = 0;
+      const long value = std::stol(item, &used);
+      if (used != item.size() || value < 1) throw std::invalid_argument(item);
+      out.push_back(value);
+    } catch (const std::exception&) {
+      throw core::InvalidInput("--windows: '" + item + "' is not a window length >= 1");
+    }
+  }
+  if (out.empty()) throw core::InvalidInput("--windows: no window length given");
+  return out;
+}
+
+}  // namespace tofcomp::cli

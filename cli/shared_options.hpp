@@ -1,0 +1,44 @@
+// Options that several subcommands share, registered in one place so that they mean one thing.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli/measured_data.hpp"
+#include "cli/pipeline.hpp"
+
+namespace tofcomp::cli {
+
+struct DataOptions {
+  std::string file;
+  int beam = 0;
+  // Reads the beam; prints the reader's warnings on stderr.
+  MeasuredData load() const;
+};
+std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd);
+
+struct ThermalOptions {
+  std::string datasheet;
+  std::string free = "r2,c1,c2";
+  double ambient_c = 22.0;
+  ThermalFitSettings settings() const;
+};
+std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd);
+
+struct TrainingOptions {
+  std::shared_ptr<ThermalOptions> thermal;
+  std::string basis = "polynomial:4";
+  int modes = 2;
+  bool paper_m_step = false;
+  bool paper_init = false;
+  int max_iterations = 1000;
+  TrainSettings settings() const;
+};
+std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd);
+
+// "200,400,800" → window lengths.
+std::vector<Eigen::Index> parse_windows(const std::string& list);
+
+}  // namespace tofcomp::cli

@@ -1,0 +1,114 @@
+#include "io/calibration_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "io/atomic_file.hpp"
+#include "io/yaml_fields.hpp"
+
+namespace tofcomp::io {
+namespace {
+
+Calibration example() {
+  Calibration c;
+  c.thermal = {0.18, 0.5, 60.0, 2000.0, 10.0};
+  c.ambient_c = 21.5;
+  c.model.basis = core::Basis({core::BasisTerm{core::BasisKind::Polynomial, 3,
+                                               core::PolynomialForm::Legendre, 0.0},
+                               core::BasisTerm{core::BasisKind::Fourier, 2,
+                                               core::PolynomialForm::Legendre, 0.1}},
+                              core::TemperatureScaling{26.8, 2.0});
+  c.model.theta = Eigen::VectorXd::LinSpaced(7, -1.0 / 3.0, 2.0 / 7.0);
+  c.model.noise.mean = Eigen::Vector2d(-2.0000000000000004, 2.5);
+  c.model.noise.variance = Eigen::Vector2d(0.81, 1.21);
+  c.model.noise.weight = Eigen::Vector2d(0.55, 0.45);
+  c.provenance = {"data.csv", "2026-11-22T00:00:00Z", "tofcomp 0.1.0", 20000, "beam 0"};
+  return c;
+}
+
+std::string temp_file(const std::string& name) { return ::testing::TempDir() + "/" + name; }
+
+std::string read_all(const std::string& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(CalibrationFile, RoundTripIsExact) {
+  const std::string file = temp_file("calibration.yaml");
+  const Calibration c = example();
+  write_calibration_file(file, c);
+  const Calibration back = read_calibration_file(file);
+  EXPECT_EQ(back.model.theta, c.model.theta);
+  EXPECT_EQ(back.model.noise.mean, c.model.noise.mean);
+  EXPECT_EQ(back.model.noise.variance, c.model.noise.variance);
+  EXPECT_EQ(back.model.noise.weight, c.model.noise.weight);
+  EXPECT_EQ(back.model.basis.describe(), c.model.basis.describe());
+  EXPECT_EQ(back.model.basis.scaling().half_range_c, 2.0);
+  EXPECT_EQ(back.thermal.c2_j_per_k, 2000.0);
+  EXPECT_EQ(back.ambient_c, 21.5);
+  EXPECT_EQ(back.noise.measurement_variance_k2, c.noise.measurement_variance_k2);
+  EXPECT_EQ(back.provenance.samples, 20000);
+  // A second write of what was read is byte-identical.
+  write_calibration_file(temp_file("calibration2.yaml"), back);
+  EXPECT_EQ(read_all(file), read_all(temp_file("calibration2.yaml")));
+  // The same bias at any temperature.
+  EXPECT_EQ(back.model.bias_at(27.3), c.model.bias_at(27.3));
+}
+
+std::string error_of(const std::string& text) {
+  const std::string file = temp_file("broken.yaml");
+  std::ofstream(file) << text;
+  try {
+    read_calibration_file(file);
+  } catch (const YamlSchemaError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(CalibrationFile, ErrorsNameTheFileAndKey) {
+  const std::string good = calibration_to_yaml(example());
+  EXPECT_NE(error_of(replaced(good, "version: 1", "version: 2")).find("version is 2"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(good, "schema: tofcomp-calibration", "schema: other"))
+                .find("schema must be tofcomp-calibration"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(good, "  power_w:", "  powr_w:")).find("thermal.powr_w is not a known key"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(good, "  r1_k_per_w: 0.17999999999999999\n", ""))
+                .find("thermal.r1_k_per_w is missing"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(good, "weight: 0.45", "weight: 0.5")).find("sum to"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(good, "theta_mm: [", "theta_mm: [1, ")).find("θ has 8"),
+            std::string::npos);
+  const std::string message = error_of("schema: [");
+  EXPECT_EQ(message.rfind(temp_file("broken.yaml"), 0), 0u) << message;
+}
+
+TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
+  const std::string dir = ::testing::TempDir() + "/atomic";
+  std::filesystem::create_directories(dir);
+  const std::string file = dir + "/target.txt";
+  write_file_atomically(file, "old");
+  write_file_atomically(file, "new contents");
+  EXPECT_EQ(read_all(file), "new contents");
+  int entries = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++entries;
+  EXPECT_EQ(entries, 1);
+  EXPECT_THROW(write_file_atomically(dir + "/missing/x.txt", "x"), core::Error);
+}
+
+}  // namespace
+}  // namespace tofcomp::io
