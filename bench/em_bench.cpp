@@ -25,10 +25,10 @@ constexpr int kTrainIterations = 10;
 
 Basis bench_basis(int columns) {
   const int harmonics = (columns - 1) / 2;
-  return Basis({BasisTerm{BasisKind::Polynomial, 1, PolynomialForm::Legendre, 0.0},
-                BasisTerm{BasisKind::Fourier, harmonics, PolynomialForm::Legendre,
-                          1.0 / (kHighC - kLowC)}},
-               TemperatureScaling{0.5 * (kLowC + kHighC), 0.5 * (kHighC - kLowC)});
+  return Basis(
+      {BasisTerm{BasisKind::Polynomial, 1, PolynomialForm::Legendre, 0.0},
+       BasisTerm{BasisKind::Fourier, harmonics, PolynomialForm::Legendre, 1.0 / (kHighC - kLowC)}},
+      TemperatureScaling{0.5 * (kLowC + kHighC), 0.5 * (kHighC - kLowC)});
 }
 
 struct BenchData {
@@ -66,9 +66,9 @@ void BM_EmTrainIteration(benchmark::State& state) {
   }
   state.counters["K"] = static_cast<double>(k);
   state.counters["p"] = columns;
-  state.counters["s_per_iteration"] = benchmark::Counter(
-      static_cast<double>(state.iterations()) * (kTrainIterations + 1),
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["s_per_iteration"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * (kTrainIterations + 1),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 // Time of EM testing of one window of K samples (the bias Hθ̂ is precomputed, as in use).

@@ -87,10 +87,9 @@ std::vector<core::Basis> parse_candidates(const std::vector<std::string>& specs,
     const auto after = spec.find(':', range);
     const std::string rest = after == std::string::npos ? "" : spec.substr(after);
     const int lo = parse_order(spec.substr(colon + 1, range - colon - 1), spec);
-    const int hi = parse_order(spec.substr(range + 2, after == std::string::npos
-                                                          ? std::string::npos
-                                                          : after - range - 2),
-                               spec);
+    const int hi = parse_order(
+        spec.substr(range + 2, after == std::string::npos ? std::string::npos : after - range - 2),
+        spec);
     if (hi < lo) bad(spec, "has an empty range");
     for (int n = lo; n <= hi; ++n) {
       out.push_back(parse_basis(kind + ":" + std::to_string(n) + rest, temperatures_c));

@@ -14,7 +14,8 @@
 namespace tofcomp::cli {
 
 // Throws core::InvalidInput naming the malformed term.
-core::Basis parse_basis(const std::string& spec, const Eigen::Ref<const Eigen::VectorXd>& temperatures_c);
+core::Basis parse_basis(const std::string& spec,
+                        const Eigen::Ref<const Eigen::VectorXd>& temperatures_c);
 
 // "polynomial:1..16" expands to sixteen candidates; other specs stand for themselves.
 std::vector<core::Basis> parse_candidates(const std::vector<std::string>& specs,

@@ -12,9 +12,10 @@
 namespace tofcomp::cli {
 
 void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
-  auto* cmd = app.add_subcommand(
-      "evaluate", "Train on the first part of a data set, test on the rest, and print the "
-                  "error before and after compensation per window length (§8)");
+  auto* cmd =
+      app.add_subcommand("evaluate",
+                         "Train on the first part of a data set, test on the rest, and print the "
+                         "error before and after compensation per window length (§8)");
   auto data = add_data_options(*cmd);
   auto training = add_training_options(*cmd);
   auto fraction = std::make_shared<double>(0.5);
@@ -47,9 +48,9 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
       const Training t = train_calibration(train, settings, &test);
       if (!calibration_out->empty()) io::write_calibration_file(*calibration_out, t.calibration);
       const Compensation compensation = compensate(test, t.calibration);
-      const auto evaluations = evaluate_windows(
-          test, t.calibration, compensation, parse_windows(*windows), *stride,
-          [&](double f) { progress.update(0.2 + 0.8 * f, "windows"); });
+      const auto evaluations =
+          evaluate_windows(test, t.calibration, compensation, parse_windows(*windows), *stride,
+                           [&](double f) { progress.update(0.2 + 0.8 * f, "windows"); });
       if (!figures->empty()) {
         write_figure_data(*figures, test, t.calibration, compensation, evaluations, &t.thermal,
                           &t.em);

@@ -11,13 +11,14 @@
 namespace tofcomp::cli {
 
 void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
-  auto* cmd = app.add_subcommand(
-      "select", "Choose H(.) among candidate bases (Algorithm 2): GLR, BIC and held-out "
-                "likelihood per candidate");
+  auto* cmd =
+      app.add_subcommand("select",
+                         "Choose H(.) among candidate bases (Algorithm 2): GLR, BIC and held-out "
+                         "likelihood per candidate");
   auto data = add_data_options(*cmd);
   auto thermal = add_thermal_options(*cmd);
-  auto candidates = std::make_shared<std::vector<std::string>>(
-      std::vector<std::string>{"polynomial:1..8"});
+  auto candidates =
+      std::make_shared<std::vector<std::string>>(std::vector<std::string>{"polynomial:1..8"});
   auto modes = std::make_shared<int>(2);
   cmd->add_option("--candidates", *candidates,
                   "Candidate bases; kind:LO..HI expands to one per order")
@@ -31,8 +32,8 @@ void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& 
       const ThermalFitSettings settings = thermal->settings();
       const ThermalFit fit = fit_thermal(measured, nullptr, settings);
       core::ThermalNoise noise;
-      const JunctionEstimate junction = junction_at_ranges(measured, fit.pem.parameters, noise,
-                                                           settings.ambient_fallback_c);
+      const JunctionEstimate junction =
+          junction_at_ranges(measured, fit.pem.parameters, noise, settings.ambient_fallback_c);
       const auto bases = parse_candidates(*candidates, junction.junction_c);
       progress.update(0.2, std::to_string(bases.size()) + " candidates");
       core::SelectionOptions options;
@@ -44,9 +45,9 @@ void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& 
       CommandResult result;
       result.json["null_log_likelihood"] = r.null_log_likelihood;
       result.json["candidates"] = nlohmann::json::array();
-      std::string text = fmt::format("{:<28} {:>4} {:>12} {:>12} {:>12} {:>12} {:>10}\n",
-                                     "candidate", "p", "GLR", "Eq.25", "BIC", "held-out/n",
-                                     "Eq.29");
+      std::string text =
+          fmt::format("{:<28} {:>4} {:>12} {:>12} {:>12} {:>12} {:>10}\n", "candidate", "p", "GLR",
+                      "Eq.25", "BIC", "held-out/n", "Eq.29");
       for (const auto& s : r.scores) {
         nlohmann::json j = {{"name", s.name}, {"columns", s.columns}, {"ok", s.ok}};
         if (s.ok) {
@@ -66,7 +67,9 @@ void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& 
         }
         result.json["candidates"].push_back(j);
       }
-      auto name = [&](int i) { return i < 0 ? std::string("none") : r.scores[static_cast<std::size_t>(i)].name; };
+      auto name = [&](int i) {
+        return i < 0 ? std::string("none") : r.scores[static_cast<std::size_t>(i)].name;
+      };
       result.json["best_by_glr"] = name(r.best_by_glr);
       result.json["best_by_bic"] = name(r.best_by_bic);
       result.json["best_by_held_out"] = name(r.best_by_held_out);

@@ -8,18 +8,20 @@ namespace tofcomp::cli {
 
 void register_simulate(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
   auto* cmd = app.add_subcommand(
-      "simulate", "Play a twin scenario (config/scenarios/*.yaml) and write the measured data "
-                  "as the interchange CSV");
+      "simulate",
+      "Play a twin scenario (config/scenarios/*.yaml) and write the measured data "
+      "as the interchange CSV");
   auto scenario = std::make_shared<std::string>();
   auto output = std::make_shared<std::string>();
-  cmd->add_option("scenario", *scenario, "Scenario YAML file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("scenario", *scenario, "Scenario YAML file")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", *output, "CSV file to write")->required();
   cmd->callback([&common, &run, scenario, output] {
     run = [&common, scenario, output] {
       const sim::Scenario s = sim::load_scenario_file(*scenario);
       Progress progress("simulate " + s.name, !common.quiet);
-      const sim::TwinSeries series =
-          sim::simulate_series(s, [&](double f) { progress.update(f); });
+      const sim::TwinSeries series = sim::simulate_series(s, [&](double f) { progress.update(f); });
       write_twin_series(*output, s, series);
       progress.done(std::to_string(series.ranges.size()) + " ranges");
       double lo = 1e300, hi = -1e300;

@@ -1,6 +1,7 @@
 // tofcomp test DATA --calibration C.yaml: estimate d on windows with a trained calibration
 // (§6, §8.4) and, where the data carry the true distance, the three estimators' errors.
 #include "cli/command.hpp"
+
 #include "cli/figure_data.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
@@ -10,8 +11,9 @@ namespace tofcomp::cli {
 
 void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
   auto* cmd = app.add_subcommand(
-      "test", "Estimate the distance on windows of ranges with a calibration (EM testing) and "
-              "report the errors of d̂, ȳ and mean(y − Hθ̂) where the truth is known");
+      "test",
+      "Estimate the distance on windows of ranges with a calibration (EM testing) and "
+      "report the errors of d̂, ȳ and mean(y − Hθ̂) where the truth is known");
   auto data = add_data_options(*cmd);
   auto calibration = std::make_shared<std::string>();
   auto windows = std::make_shared<std::string>("200,400,800");

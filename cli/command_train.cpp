@@ -9,8 +9,9 @@ namespace tofcomp::cli {
 
 void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
   auto* cmd = app.add_subcommand(
-      "train", "Train a calibration (thermal model, basis, θ, lasing modes) on data with a "
-               "known distance, and write it as a calibration file");
+      "train",
+      "Train a calibration (thermal model, basis, θ, lasing modes) on data with a "
+      "known distance, and write it as a calibration file");
   auto data = add_data_options(*cmd);
   auto training = add_training_options(*cmd);
   auto output = std::make_shared<std::string>();
@@ -24,12 +25,9 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
       io::write_calibration_file(*output, t.calibration);
       progress.done("wrote " + *output);
       CommandResult result;
-      result.json = {{"calibration", to_json(t.calibration)},
-                     {"thermal_fit", to_json(t.thermal)},
-                     {"em_iterations", t.em.iterations},
-                     {"em_converged", t.em.converged},
-                     {"log_likelihood", t.em.log_likelihood},
-                     {"output", *output}};
+      result.json = {{"calibration", to_json(t.calibration)}, {"thermal_fit", to_json(t.thermal)},
+                     {"em_iterations", t.em.iterations},      {"em_converged", t.em.converged},
+                     {"log_likelihood", t.em.log_likelihood}, {"output", *output}};
       result.text = thermal_fit_text(t.thermal) + calibration_text(t.calibration) +
                     "EM: " + std::to_string(t.em.iterations) + " iterations" +
                     (t.em.converged ? "" : " (cap reached)") + "\nwrote " + *output + "\n";

@@ -25,8 +25,8 @@ std::string samples_csv(const MeasuredData& test, const io::Calibration& calibra
     out += fmt::format("{},{},{},{}", test.range_time_s[k], test.range_mm[k],
                        compensation.junction.junction_c[k], compensation.bias_mm[k]);
     for (int i = 0; i < modes; ++i) out += fmt::format(",{}", fit.responsibilities(k, i));
-    out += fmt::format(",{}\n", test.range_mm[k] - compensation.bias_mm[k] -
-                                    calibration.model.noise.mean[best]);
+    out += fmt::format(
+        ",{}\n", test.range_mm[k] - compensation.bias_mm[k] - calibration.model.noise.mean[best]);
   }
   return out;
 }

@@ -21,7 +21,7 @@ struct MeasuredData {
   Eigen::VectorXd range_mm;
   Eigen::VectorXd true_range_mm;  // valid where has_true_range
   std::vector<bool> has_true_range;
-  std::vector<long> range_line;   // the CSV line of each range, for messages (0: none)
+  std::vector<long> range_line;  // the CSV line of each range, for messages (0: none)
   // Case-temperature readings t^s.
   Eigen::VectorXd temperature_time_s;
   Eigen::VectorXd case_c;

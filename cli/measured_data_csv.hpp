@@ -11,7 +11,8 @@
 namespace tofcomp::cli {
 
 // One beam of a measured-data file. Warnings (unknown columns) are appended to `warnings`.
-MeasuredData read_measured_data(const std::string& file, int beam, std::vector<std::string>& warnings);
+MeasuredData read_measured_data(const std::string& file, int beam,
+                                std::vector<std::string>& warnings);
 
 // Writes the twin's series as the interchange CSV, with the scenario in metadata comments.
 void write_twin_series(const std::string& file, const sim::Scenario& scenario,

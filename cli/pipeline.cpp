@@ -5,8 +5,8 @@
 
 #include "cli/basis_spec.hpp"
 #include "cli/version.hpp"
-#include "core/error.hpp"
 #include "core/em_test.hpp"
+#include "core/error.hpp"
 
 namespace tofcomp::cli {
 namespace {
@@ -50,7 +50,8 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   Training t;
   t.thermal = fit_thermal(data, held_out, settings.thermal);
   const core::ThermalParameters& thermal = t.thermal.pem.parameters;
-  t.junction = junction_at_ranges(data, thermal, settings.noise, settings.thermal.ambient_fallback_c);
+  t.junction =
+      junction_at_ranges(data, thermal, settings.noise, settings.thermal.ambient_fallback_c);
 
   const core::Basis basis = parse_basis(settings.basis, t.junction.junction_c);
   const Eigen::MatrixXd h = basis.design_matrix(t.junction.junction_c);
@@ -75,8 +76,8 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
 
 Compensation compensate(const MeasuredData& data, const io::Calibration& calibration) {
   Compensation out;
-  out.junction = junction_at_ranges(data, calibration.thermal, calibration.noise,
-                                    calibration.ambient_c);
+  out.junction =
+      junction_at_ranges(data, calibration.thermal, calibration.noise, calibration.ambient_c);
   out.bias_mm = calibration.model.bias(out.junction.junction_c);
   return out;
 }

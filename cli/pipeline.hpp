@@ -67,9 +67,9 @@ struct WindowEvaluation {
   Eigen::Index window = 0;
   core::WindowEstimates estimates;
   bool has_truth = false;
-  Eigen::VectorXd truth_mm;     // mean true distance of each window
-  core::ErrorMoments em;        // d̂
-  core::ErrorMoments raw;       // ȳ
+  Eigen::VectorXd truth_mm;           // mean true distance of each window
+  core::ErrorMoments em;              // d̂
+  core::ErrorMoments raw;             // ȳ
   core::ErrorMoments bias_corrected;  // mean of y − Hθ̂
 };
 

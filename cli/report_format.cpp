@@ -54,8 +54,8 @@ nlohmann::json to_json(const io::Calibration& c) {
   }
   return {{"thermal", thermal_json(c.thermal)},
           {"basis", c.model.basis.describe()},
-          {"theta_mm", std::vector<double>(c.model.theta.data(),
-                                           c.model.theta.data() + c.model.theta.size())},
+          {"theta_mm",
+           std::vector<double>(c.model.theta.data(), c.model.theta.data() + c.model.theta.size())},
           {"modes", modes},
           {"samples", c.provenance.samples},
           {"data_set", c.provenance.data_set}};
@@ -71,8 +71,9 @@ nlohmann::json to_json(const std::vector<WindowEvaluation>& evaluations) {
       j["bias_corrected_mean"] = to_json(e.bias_corrected);
       j["mae_improvement"] = e.raw.mean_absolute_error / e.em.mean_absolute_error;
     } else {
-      j["em_distance_mm"] = std::vector<double>(
-          e.estimates.em_distance.data(), e.estimates.em_distance.data() + e.estimates.em_distance.size());
+      j["em_distance_mm"] =
+          std::vector<double>(e.estimates.em_distance.data(),
+                              e.estimates.em_distance.data() + e.estimates.em_distance.size());
     }
     out.push_back(j);
   }
@@ -84,10 +85,11 @@ std::string thermal_fit_text(const ThermalFit& fit) {
   out += "thermal model (§3)\n";
   out += "  Algorithm 1 (datasheet): " + thermal_line(fit.algorithm1) + "\n";
   out += "  prediction-error fit:    " + thermal_line(fit.pem.parameters) + "\n";
-  out += fmt::format("  training fit: RMS {:.4f} °C, Eq. 26 {:.3f} %, NRMSE fit {:.2f} % ({} "
-                     "iterations{})\n",
-                     fit.pem.rms_residual_c, fit.pem.paper_fit_percent, fit.pem.nrmse_fit_percent,
-                     fit.pem.iterations, fit.pem.converged ? "" : ", not converged");
+  out += fmt::format(
+      "  training fit: RMS {:.4f} °C, Eq. 26 {:.3f} %, NRMSE fit {:.2f} % ({} "
+      "iterations{})\n",
+      fit.pem.rms_residual_c, fit.pem.paper_fit_percent, fit.pem.nrmse_fit_percent,
+      fit.pem.iterations, fit.pem.converged ? "" : ", not converged");
   if (fit.has_held_out) {
     out += fmt::format("  held-out fit: Eq. 26 {:.3f} % (paper: 92.79 %), NRMSE fit {:.2f} %\n",
                        fit.held_out_paper_fit_percent, fit.held_out_nrmse_fit_percent);
@@ -116,7 +118,9 @@ std::string window_table_text(const std::vector<WindowEvaluation>& evaluations) 
       continue;
     }
     const std::pair<const char*, const core::ErrorMoments*> rows[] = {
-        {"raw mean (y bar)", &e.raw}, {"mean of y - H theta", &e.bias_corrected}, {"EM d hat", &e.em}};
+        {"raw mean (y bar)", &e.raw},
+        {"mean of y - H theta", &e.bias_corrected},
+        {"EM d hat", &e.em}};
     for (const auto& [name, m] : rows) {
       out += fmt::format("{:>7} {:>8}  {:<22} {:>9.3f} {:>9.3f} {:>11.3f} {:>9.3f}\n", e.window,
                          e.estimates.start.size(), name, m->mean_error, m->mean_absolute_error,

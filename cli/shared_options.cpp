@@ -83,8 +83,9 @@ std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd) {
   cmd.add_option("--basis", o->basis,
                  "H(.): polynomial:N[:legendre|raw], fourier:N:F0, joined by +")
       ->capture_default_str();
-  cmd.add_option("--modes", o->modes, "Lasing modes M")->capture_default_str()->check(
-      CLI::Range(1, 10));
+  cmd.add_option("--modes", o->modes, "Lasing modes M")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10));
   cmd.add_flag("--paper-m-step", o->paper_m_step, "Use Eq. 19 as printed (docs/em-m-step.md)");
   cmd.add_flag("--paper-init", o->paper_init, "Start from Eq. 20 (two modes only)");
   cmd.add_option("--max-iterations", o->max_iterations, "EM iteration cap")

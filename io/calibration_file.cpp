@@ -152,8 +152,8 @@ Calibration read_calibration_file(const std::string& file) {
     const YAML::Node root = load_yaml_file(file);
     const YamlMap top(root, "", {"schema", "version", "provenance", "thermal", "measurement"});
     if (top.text("schema") != kCalibrationSchema) {
-      top.fail("schema", std::string("must be ") + kCalibrationSchema + ", not '" +
-                             top.text("schema") + "'");
+      top.fail("schema",
+               std::string("must be ") + kCalibrationSchema + ", not '" + top.text("schema") + "'");
     }
     const long version = top.integer("version");
     if (version != kCalibrationVersion) {
@@ -169,10 +169,10 @@ Calibration read_calibration_file(const std::string& file) {
     c.provenance.samples = p.integer("samples");
     c.provenance.notes = p.text_or("notes", "");
 
-    const YamlMap t(top.node("thermal"), "thermal",
-                    {"r1_k_per_w", "r2_k_per_w", "c1_j_per_k", "c2_j_per_k", "power_w",
-                     "ambient_c", "process_noise_case_k2_per_s",
-                     "process_noise_junction_k2_per_s", "sensor_noise_k2"});
+    const YamlMap t(
+        top.node("thermal"), "thermal",
+        {"r1_k_per_w", "r2_k_per_w", "c1_j_per_k", "c2_j_per_k", "power_w", "ambient_c",
+         "process_noise_case_k2_per_s", "process_noise_junction_k2_per_s", "sensor_noise_k2"});
     c.thermal.r1_k_per_w = t.number("r1_k_per_w");
     c.thermal.r2_k_per_w = t.number("r2_k_per_w");
     c.thermal.c1_j_per_k = t.number("c1_j_per_k");

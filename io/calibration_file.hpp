@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "core/measurement_model.hpp"
 #include "core/kalman.hpp"
+#include "core/measurement_model.hpp"
 #include "core/thermal_model.hpp"
 
 namespace tofcomp::io {
@@ -25,7 +25,7 @@ struct Provenance {
 struct Calibration {
   core::ThermalParameters thermal{};
   core::ThermalNoise noise;  // of the junction-temperature Kalman filter (§3.3)
-  double ambient_c = 22.0;  // used when the data carry no ambient column
+  double ambient_c = 22.0;   // used when the data carry no ambient column
   core::MeasurementModel model;
   Provenance provenance;
 };

@@ -14,11 +14,13 @@ namespace {
 enum class Column { Time, Range, Beam, CaseTemp, Power, Ambient, TrueRange, Unknown };
 
 Column column_kind(const std::string& name) {
-  static const std::map<std::string, Column> known = {
-      {"time_s", Column::Time},          {"range_mm", Column::Range},
-      {"beam", Column::Beam},            {"case_temp_c", Column::CaseTemp},
-      {"power", Column::Power},          {"ambient_c", Column::Ambient},
-      {"true_range_mm", Column::TrueRange}};
+  static const std::map<std::string, Column> known = {{"time_s", Column::Time},
+                                                      {"range_mm", Column::Range},
+                                                      {"beam", Column::Beam},
+                                                      {"case_temp_c", Column::CaseTemp},
+                                                      {"power", Column::Power},
+                                                      {"ambient_c", Column::Ambient},
+                                                      {"true_range_mm", Column::TrueRange}};
   const auto it = known.find(name);
   return it == known.end() ? Column::Unknown : it->second;
 }

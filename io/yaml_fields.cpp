@@ -25,7 +25,9 @@ YamlMap::YamlMap(const YAML::Node& node, std::string path,
   }
 }
 
-bool YamlMap::has(std::string_view key) const { return static_cast<bool>(node_[std::string(key)]); }
+bool YamlMap::has(std::string_view key) const {
+  return static_cast<bool>(node_[std::string(key)]);
+}
 
 std::string YamlMap::child_path(std::string_view key) const {
   return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
@@ -94,8 +96,8 @@ YAML::Node load_yaml_file(const std::string& file) {
     throw YamlSchemaError(file + ": cannot be opened");
   } catch (const YAML::ParserException& e) {
     std::ostringstream msg;
-    msg << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1 << ": YAML syntax error: "
-        << e.msg;
+    msg << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1
+        << ": YAML syntax error: " << e.msg;
     throw YamlSchemaError(msg.str());
   }
 }

@@ -23,7 +23,8 @@ class YamlSchemaError : public core::Error {
 class YamlMap {
  public:
   // Throws YamlSchemaError unless node is a mapping whose keys are all in `allowed`.
-  YamlMap(const YAML::Node& node, std::string path, std::initializer_list<std::string_view> allowed);
+  YamlMap(const YAML::Node& node, std::string path,
+          std::initializer_list<std::string_view> allowed);
 
   bool has(std::string_view key) const;
   const std::string& path() const { return path_; }

@@ -117,8 +117,8 @@ Scenario load_scenario_file(const std::string& file) {
   try {
     const YAML::Node root = io::load_yaml_file(file);
     const YamlMap m(root, "",
-                    {"name", "seed", "thermal", "power", "ambient", "initial_case_c", "sensor", "true_range_mm",
-                     "bias", "modes", "scanner", "range_period_s"});
+                    {"name", "seed", "thermal", "power", "ambient", "initial_case_c", "sensor",
+                     "true_range_mm", "bias", "modes", "scanner", "range_period_s"});
     Scenario s;
     s.name = m.text_or("name", s.name);
     const long seed = m.integer_or("seed", 1);

@@ -16,7 +16,9 @@ std::discrete_distribution<int> make_mode_picker(const std::vector<LasingMode>& 
   return {weights.begin(), weights.end()};
 }
 
-double quantize(double value, double step) { return step * std::round(value / step); }
+double quantize(double value, double step) {
+  return step * std::round(value / step);
+}
 
 // The power state at time t and the time of the next change after t (infinity at the end).
 struct PowerAt {
@@ -41,12 +43,14 @@ Twin::Twin(Scenario scenario)
       rng_(scenario_.seed),
       mode_picker_(make_mode_picker(scenario_.modes)) {
   scenario_.validate();
-  const double start_c = std::isnan(scenario_.initial_case_c) ? scenario_.ambient.at(0.0)
-                                                               : scenario_.initial_case_c;
+  const double start_c =
+      std::isnan(scenario_.initial_case_c) ? scenario_.ambient.at(0.0) : scenario_.initial_case_c;
   state_ = Eigen::Vector2d::Constant(start_c);
 }
 
-bool Twin::power_on() const { return power_at(scenario_.power, time_s_).on; }
+bool Twin::power_on() const {
+  return power_at(scenario_.power, time_s_).on;
+}
 
 void Twin::advance_to(double time_s) {
   if (time_s < time_s_) {
@@ -59,11 +63,10 @@ void Twin::advance_to(double time_s) {
     const double end = std::min(time_s, power.next_change_s);
     const double step = end - time_s_;
     if (step > 0.0) {
-      const core::DiscreteThermalModel model =
-          core::discretize_zoh(scenario_.thermal, step);
+      const core::DiscreteThermalModel model = core::discretize_zoh(scenario_.thermal, step);
       const double ambient = scenario_.ambient.at(0.5 * (time_s_ + end));
-      state_ = model.a * state_ + model.b_power * (power.on ? 1.0 : 0.0) +
-               model.b_ambient * ambient;
+      state_ =
+          model.a * state_ + model.b_power * (power.on ? 1.0 : 0.0) + model.b_ambient * ambient;
     }
     time_s_ = end;
   }
@@ -121,7 +124,8 @@ TwinSeries simulate_series(const Scenario& scenario, const std::function<void(do
       if (on) {
         const RangeReading r = twin.measure();
         if (r.status == ReadingStatus::Valid) {
-          out.ranges.push_back({t, r.range_mm, r.true_range_mm, twin.junction_c(), r.bias_mm, r.mode});
+          out.ranges.push_back(
+              {t, r.range_mm, r.true_range_mm, twin.junction_c(), r.bias_mm, r.mode});
         } else {
           ++out.no_echo_count;
         }

@@ -19,10 +19,10 @@ enum class ReadingStatus { Valid, NoEcho };
 
 struct RangeReading {
   ReadingStatus status = ReadingStatus::Valid;
-  double range_mm = 0.0;     // as reported: quantized to the output units
+  double range_mm = 0.0;  // as reported: quantized to the output units
   double true_range_mm = 0.0;
-  double bias_mm = 0.0;      // the temperature bias at this instant
-  int mode = 0;              // the lasing mode that fired (0-based)
+  double bias_mm = 0.0;  // the temperature bias at this instant
+  int mode = 0;          // the lasing mode that fired (0-based)
 };
 
 class Twin {
@@ -58,7 +58,7 @@ class Twin {
 struct TwinSeries {
   struct Temperature {
     double time_s;
-    double case_c;      // the sensor reading
+    double case_c;  // the sensor reading
     double ambient_c;
   };
   struct PowerChange {

@@ -16,11 +16,10 @@ Calibration example() {
   Calibration c;
   c.thermal = {0.18, 0.5, 60.0, 2000.0, 10.0};
   c.ambient_c = 21.5;
-  c.model.basis = core::Basis({core::BasisTerm{core::BasisKind::Polynomial, 3,
-                                               core::PolynomialForm::Legendre, 0.0},
-                               core::BasisTerm{core::BasisKind::Fourier, 2,
-                                               core::PolynomialForm::Legendre, 0.1}},
-                              core::TemperatureScaling{26.8, 2.0});
+  c.model.basis = core::Basis(
+      {core::BasisTerm{core::BasisKind::Polynomial, 3, core::PolynomialForm::Legendre, 0.0},
+       core::BasisTerm{core::BasisKind::Fourier, 2, core::PolynomialForm::Legendre, 0.1}},
+      core::TemperatureScaling{26.8, 2.0});
   c.model.theta = Eigen::VectorXd::LinSpaced(7, -1.0 / 3.0, 2.0 / 7.0);
   c.model.noise.mean = Eigen::Vector2d(-2.0000000000000004, 2.5);
   c.model.noise.variance = Eigen::Vector2d(0.81, 1.21);
@@ -29,7 +28,9 @@ Calibration example() {
   return c;
 }
 
-std::string temp_file(const std::string& name) { return ::testing::TempDir() + "/" + name; }
+std::string temp_file(const std::string& name) {
+  return ::testing::TempDir() + "/" + name;
+}
 
 std::string read_all(const std::string& file) {
   std::ifstream in(file);
@@ -84,8 +85,9 @@ TEST(CalibrationFile, ErrorsNameTheFileAndKey) {
   EXPECT_NE(error_of(replaced(good, "schema: tofcomp-calibration", "schema: other"))
                 .find("schema must be tofcomp-calibration"),
             std::string::npos);
-  EXPECT_NE(error_of(replaced(good, "  power_w:", "  powr_w:")).find("thermal.powr_w is not a known key"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(replaced(good, "  power_w:", "  powr_w:")).find("thermal.powr_w is not a known key"),
+      std::string::npos);
   EXPECT_NE(error_of(replaced(good, "  r1_k_per_w: 0.17999999999999999\n", ""))
                 .find("thermal.r1_k_per_w is missing"),
             std::string::npos);

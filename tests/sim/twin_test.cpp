@@ -126,8 +126,8 @@ TEST(Twin, RejectsSteppingBack) {
 }
 
 TEST(ScenarioYaml, DefaultScenarioResemblesThePaper) {
-  const Scenario s = load_scenario_file(std::string(TOFCOMP_SOURCE_ROOT) +
-                                        "/config/scenarios/default.yaml");
+  const Scenario s =
+      load_scenario_file(std::string(TOFCOMP_SOURCE_ROOT) + "/config/scenarios/default.yaml");
   const TwinSeries series = simulate_series(s);
   EXPECT_NEAR(static_cast<double>(series.ranges.size()), 20000.0, 10.0);
   double lo = 1e9, hi = -1e9;
@@ -162,9 +162,9 @@ TEST(ScenarioYaml, ErrorsNameTheKey) {
   EXPECT_NE(message(base + modes + "colour: red\n").find("colour is not a known key"),
             std::string::npos);
   EXPECT_NE(message(base).find("modes is missing"), std::string::npos);
-  EXPECT_NE(message(base + "modes: [{offset_mm: 0, std_mm: -1, weight: 1}]\n")
-                .find("modes[0].std_mm"),
-            std::string::npos);
+  EXPECT_NE(
+      message(base + "modes: [{offset_mm: 0, std_mm: -1, weight: 1}]\n").find("modes[0].std_mm"),
+      std::string::npos);
   EXPECT_NE(message(base + modes + "true_range_mm: far\n").find("true_range_mm must be a finite"),
             std::string::npos);
   EXPECT_NE(message("thermal: [1, 2\n").find("YAML syntax error"), std::string::npos);
