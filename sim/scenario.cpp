@@ -1,6 +1,8 @@
 #include "sim/scenario.hpp"
 
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -26,6 +28,16 @@ double RangeBias::at(double junction_c) const {
   const double x = junction_c - reference_c;
   const double knee = knee_width_c > 0.0 ? knee_amplitude_mm * std::tanh(x / knee_width_c) : 0.0;
   return slope_mm_per_c * x + curvature_mm_per_c2 * x * x + knee;
+}
+
+double ScannerOutput::beam_angle_deg(int beam) const {
+  if (beams <= 1) return 0.0;
+  return -0.5 * field_deg + field_deg * beam / (beams - 1);
+}
+
+double Scenario::true_range_for_beam(int beam) const {
+  const double cosine = std::cos(scanner.beam_angle_deg(beam) * std::numbers::pi / 180.0);
+  return cosine > 1e-6 ? true_range_mm / cosine : std::numeric_limits<double>::infinity();
 }
 
 double Scenario::duration_s() const {
@@ -58,6 +70,17 @@ void Scenario::validate() const {
   require(scanner.max_range_mm > 0.0, "scanner.max_range_mm", "must be positive");
   require(scanner.beams >= 1, "scanner.beams", "must be at least 1");
   require(scanner.scan_rate_hz > 0.0, "scanner.scan_rate_hz", "must be positive");
+  require(scanner.field_deg > 0.0 && scanner.field_deg <= 180.0, "scanner.field_deg",
+          "must be in (0, 180]");
+  if (effects.mode_persistence) {
+    const double p = effects.mode_persistence->stay_probability;
+    require(p >= 0.0 && p < 1.0, "effects.mode_persistence.stay_probability", "must be in [0, 1)");
+  }
+  if (effects.outliers) {
+    require(effects.outliers->fraction >= 0.0 && effects.outliers->fraction <= 0.5,
+            "effects.outliers.fraction", "must be in [0, 0.5]");
+    require(effects.outliers->spread_mm > 0.0, "effects.outliers.spread_mm", "must be positive");
+  }
   require(range_period_s >= 0.0, "range_period_s", "must be non-negative");
 }
 

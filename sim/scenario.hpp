@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/thermal_model.hpp"
+#include "sim/effects.hpp"
 
 namespace tofcomp::sim {
 
@@ -65,7 +66,11 @@ struct ScannerOutput {
   RangeUnits units = RangeUnits::Millimetre;
   double max_range_mm = 8183.0;  // 8 m mode: codes above are reserved
   int beams = 1;                 // 1 for a single-beam series; 181, 361 or 401 for scans
+  double field_deg = 180.0;      // the scan's angular field (100 or 180)
   double scan_rate_hz = 75.0;    // the mirror's rate
+
+  // The angle of a beam from the scan's centre line, in degrees.
+  double beam_angle_deg(int beam) const;
 };
 
 struct Scenario {
@@ -78,13 +83,19 @@ struct Scenario {
   // scanner starts cold, at ambient.
   double initial_case_c = std::numeric_limits<double>::quiet_NaN();
   CaseSensor sensor;
-  double true_range_mm = 3000.0;  // every beam's target distance
+  // The target: a flat wall at this distance, square to the scan's centre line; beam b sees it
+  // at true_range_mm / cos(angle_b). A single beam looks straight at it.
+  double true_range_mm = 3000.0;
   RangeBias bias;
   std::vector<LasingMode> modes;
   ScannerOutput scanner;
   // Single-beam series: one range every range_period_s while the power is on (the paper's
   // 20,000 samples). Zero: every scan.
   double range_period_s = 1.0;
+  TwinEffects effects;  // none by default
+
+  // The distance beam b measures to the wall (may exceed the range limit).
+  double true_range_for_beam(int beam) const;
 
   // Total length of the power schedule.
   double duration_s() const;

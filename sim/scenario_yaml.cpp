@@ -1,5 +1,7 @@
 #include "sim/scenario_yaml.hpp"
 
+#include <filesystem>
+
 #include "io/yaml_fields.hpp"
 
 namespace tofcomp::sim {
@@ -96,7 +98,7 @@ ScannerOutput read_scanner(const YamlMap& parent) {
   ScannerOutput s;
   if (!parent.has("scanner")) return s;
   const YamlMap m(parent.node("scanner"), parent.child_path("scanner"),
-                  {"units", "max_range_mm", "beams", "scan_rate_hz"});
+                  {"units", "max_range_mm", "beams", "field_deg", "scan_rate_hz"});
   const std::string units = m.text_or("units", "mm");
   if (units == "mm") {
     s.units = RangeUnits::Millimetre;
@@ -107,18 +109,86 @@ ScannerOutput read_scanner(const YamlMap& parent) {
   }
   s.max_range_mm = m.number_or("max_range_mm", s.max_range_mm);
   s.beams = static_cast<int>(m.integer_or("beams", s.beams));
+  s.field_deg = m.number_or("field_deg", s.field_deg);
   s.scan_rate_hz = m.number_or("scan_rate_hz", s.scan_rate_hz);
   return s;
+}
+
+// One optional effect: present → a sub-map with the effect's single parameter (or defaults).
+template <typename Effect>
+std::optional<Effect> read_effect(const YamlMap& effects, const char* key, const char* parameter,
+                                  double Effect::*field) {
+  if (!effects.has(key)) return std::nullopt;
+  Effect effect;
+  const YAML::Node node = effects.node(key);
+  if (node.IsNull()) return effect;
+  const YamlMap m(node, effects.child_path(key), {parameter});
+  effect.*field = m.number_or(parameter, effect.*field);
+  return effect;
+}
+
+TwinEffects read_effects(const YamlMap& parent) {
+  TwinEffects fx;
+  if (!parent.has("effects")) return fx;
+  const YamlMap m(parent.node("effects"), parent.child_path("effects"),
+                  {"mode_persistence", "temperature_dependent_weights",
+                   "temperature_dependent_spread", "outliers", "heating_hysteresis", "time_drift"});
+  fx.mode_persistence =
+      read_effect(m, "mode_persistence", "stay_probability", &ModePersistence::stay_probability);
+  fx.temperature_dependent_weights =
+      read_effect(m, "temperature_dependent_weights", "log_odds_per_c",
+                  &TemperatureDependentWeights::log_odds_per_c);
+  fx.temperature_dependent_spread = read_effect(m, "temperature_dependent_spread", "relative_per_c",
+                                                &TemperatureDependentSpread::relative_per_c);
+  fx.heating_hysteresis = read_effect(m, "heating_hysteresis", "mm_per_c_per_min",
+                                      &HeatingHysteresis::mm_per_c_per_min);
+  fx.time_drift = read_effect(m, "time_drift", "mm_per_hour", &TimeDrift::mm_per_hour);
+  if (m.has("outliers")) {
+    Outliers o;
+    const YAML::Node node = m.node("outliers");
+    if (!node.IsNull()) {
+      const YamlMap om(node, m.child_path("outliers"), {"fraction", "spread_mm"});
+      o.fraction = om.number_or("fraction", o.fraction);
+      o.spread_mm = om.number_or("spread_mm", o.spread_mm);
+    }
+    fx.outliers = o;
+  }
+  return fx;
+}
+
+// `override` on top of `base`: mappings merge key by key, anything else replaces.
+YAML::Node merged(const YAML::Node& base, const YAML::Node& override) {
+  if (!base.IsMap() || !override.IsMap()) return YAML::Clone(override);
+  YAML::Node out = YAML::Clone(base);
+  for (const auto& entry : override) {
+    const std::string key = entry.first.as<std::string>();
+    out[key] = base[key] ? merged(base[key], entry.second) : YAML::Clone(entry.second);
+  }
+  return out;
+}
+
+// The scenario's document with its `base:` chain (paths relative to the file) applied.
+YAML::Node load_with_base(const std::string& file, int depth) {
+  constexpr int kMaxBaseDepth = 8;
+  YAML::Node root = io::load_yaml_file(file);
+  if (!root.IsMap() || !root["base"]) return root;
+  if (depth >= kMaxBaseDepth) throw io::YamlSchemaError(file + ": base: chain is too deep");
+  if (!root["base"].IsScalar()) throw io::YamlSchemaError(file + ": base must be a file name");
+  const std::filesystem::path base_file =
+      std::filesystem::path(file).parent_path() / root["base"].Scalar();
+  YAML::Node own = YAML::Clone(root);
+  own.remove("base");
+  return merged(load_with_base(base_file.string(), depth + 1), own);
 }
 
 }  // namespace
 
 Scenario load_scenario_file(const std::string& file) {
   try {
-    const YAML::Node root = io::load_yaml_file(file);
+    const YAML::Node root = load_with_base(file, 0);
     const YamlMap m(root, "",
                     {"name", "seed", "thermal", "power", "ambient", "initial_case_c", "sensor",
-                     "true_range_mm", "bias", "modes", "scanner", "range_period_s"});
+                     "true_range_mm", "bias", "modes", "scanner", "range_period_s", "effects"});
     Scenario s;
     s.name = m.text_or("name", s.name);
     const long seed = m.integer_or("seed", 1);
@@ -134,6 +204,7 @@ Scenario load_scenario_file(const std::string& file) {
     s.modes = read_modes(m);
     s.scanner = read_scanner(m);
     s.range_period_s = m.number_or("range_period_s", s.range_period_s);
+    s.effects = read_effects(m);
     s.validate();
     return s;
   } catch (const io::YamlSchemaError& e) {

@@ -41,7 +41,8 @@ PowerAt power_at(const std::vector<PowerSegment>& schedule, double t) {
 Twin::Twin(Scenario scenario)
     : scenario_(std::move(scenario)),
       rng_(scenario_.seed),
-      mode_picker_(make_mode_picker(scenario_.modes)) {
+      mode_picker_(make_mode_picker(scenario_.modes)),
+      continuous_(core::continuous_model(scenario_.thermal)) {
   scenario_.validate();
   const double start_c =
       std::isnan(scenario_.initial_case_c) ? scenario_.ambient.at(0.0) : scenario_.initial_case_c;
@@ -78,20 +79,65 @@ double Twin::read_case_sensor() {
   return s.resolution_c > 0.0 ? quantize(noisy, s.resolution_c) : noisy;
 }
 
-RangeReading Twin::measure() {
+double Twin::junction_rate_c_per_s() const {
+  const Eigen::Vector2d rate = continuous_.a * state_ +
+                               continuous_.b_power * (power_on() ? 1.0 : 0.0) +
+                               continuous_.b_ambient * ambient_c();
+  return rate[1];
+}
+
+int Twin::draw_mode() {
+  const TwinEffects& fx = scenario_.effects;
+  if (fx.mode_persistence && last_mode_ >= 0 &&
+      uniform_(rng_) < fx.mode_persistence->stay_probability) {
+    return last_mode_;
+  }
+  if (!fx.temperature_dependent_weights) return mode_picker_(rng_);
+  const double shift = fx.temperature_dependent_weights->log_odds_per_c *
+                       (junction_c() - scenario_.bias.reference_c);
+  std::vector<double> weights;
+  for (std::size_t i = 0; i < scenario_.modes.size(); ++i) {
+    weights.push_back(scenario_.modes[i].weight * (i == 0 ? 1.0 : std::exp(shift)));
+  }
+  std::discrete_distribution<int> picker(weights.begin(), weights.end());
+  return picker(rng_);
+}
+
+RangeReading Twin::measure(int beam) {
+  const TwinEffects& fx = scenario_.effects;
   RangeReading r;
-  r.true_range_mm = scenario_.true_range_mm;
+  r.true_range_mm = scenario_.true_range_for_beam(beam);
   r.bias_mm = scenario_.bias.at(junction_c());
-  r.mode = mode_picker_(rng_);
+  if (fx.heating_hysteresis) {
+    r.bias_mm += fx.heating_hysteresis->mm_per_c_per_min * 60.0 * junction_rate_c_per_s();
+  }
+  if (fx.time_drift) r.bias_mm += fx.time_drift->mm_per_hour * time_s_ / 3600.0;
+  r.mode = draw_mode();
+  last_mode_ = r.mode;
   const LasingMode& mode = scenario_.modes[static_cast<std::size_t>(r.mode)];
-  const double analog =
-      r.true_range_mm + r.bias_mm + mode.offset_mm + mode.std_mm * standard_normal_(rng_);
+  double spread = mode.std_mm;
+  if (fx.temperature_dependent_spread) {
+    const double x = junction_c() - scenario_.bias.reference_c;
+    spread *= std::max(0.1, 1.0 + fx.temperature_dependent_spread->relative_per_c * x);
+  }
+  double analog = r.true_range_mm + r.bias_mm + mode.offset_mm + spread * standard_normal_(rng_);
+  if (fx.outliers && uniform_(rng_) < fx.outliers->fraction) {
+    analog = r.true_range_mm + fx.outliers->spread_mm * (2.0 * uniform_(rng_) - 1.0);
+    r.mode = -1;
+  }
   const double unit = scenario_.scanner.units == RangeUnits::Millimetre ? 1.0 : 10.0;
   r.range_mm = quantize(analog, unit);
   if (r.range_mm > scenario_.scanner.max_range_mm || r.range_mm < 0.0) {
     r.status = ReadingStatus::NoEcho;
   }
   return r;
+}
+
+std::vector<RangeReading> Twin::scan() {
+  std::vector<RangeReading> readings;
+  readings.reserve(static_cast<std::size_t>(scenario_.scanner.beams));
+  for (int b = 0; b < scenario_.scanner.beams; ++b) readings.push_back(measure(b));
+  return readings;
 }
 
 TwinSeries simulate_series(const Scenario& scenario, const std::function<void(double)>& progress) {

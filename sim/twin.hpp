@@ -42,16 +42,26 @@ class Twin {
 
   // A case-sensor reading now: the case temperature plus noise, quantized to the resolution.
   double read_case_sensor();
-  // One range of one beam now (Eq. 8 plus the device's quantization and range limit).
-  RangeReading measure();
+  // One range of one beam now (Eq. 8, the scenario's effects, the device's quantization and
+  // range limit).
+  RangeReading measure(int beam = 0);
+  // A whole scan now: one reading per beam, in beam order.
+  std::vector<RangeReading> scan();
+  // dt^j/dt now, °C/s (Eq. 3).
+  double junction_rate_c_per_s() const;
 
  private:
   Scenario scenario_;
   std::mt19937_64 rng_;
   std::discrete_distribution<int> mode_picker_;
   std::normal_distribution<double> standard_normal_{0.0, 1.0};
+  std::uniform_real_distribution<double> uniform_{0.0, 1.0};
+  core::ContinuousThermalModel continuous_;
   double time_s_ = 0.0;
   Eigen::Vector2d state_;
+  int last_mode_ = -1;
+
+  int draw_mode();
 };
 
 // The single-beam series of one scenario, as a logger records it.

@@ -1,0 +1,127 @@
+// Each optional effect of the twin (sim/effects.hpp) does what docs/scenarios.md says, checked
+// against an answer derived from the effect's definition.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "sim/scenario_yaml.hpp"
+#include "sim/twin.hpp"
+
+namespace tofcomp::sim {
+namespace {
+
+const std::string kScenarios = std::string(TOFCOMP_SOURCE_ROOT) + "/config/scenarios/";
+
+Scenario with(const std::string& file) {
+  return load_scenario_file(kScenarios + file);
+}
+
+TEST(TwinEffects, EffectScenariosInheritTheDefault) {
+  const Scenario base = with("default.yaml");
+  const Scenario fx = with("effect-outliers.yaml");
+  EXPECT_EQ(fx.name, "effect-outliers");
+  EXPECT_EQ(fx.thermal.c2_j_per_k, base.thermal.c2_j_per_k);
+  EXPECT_EQ(fx.modes.size(), base.modes.size());
+  EXPECT_FALSE(base.effects.any());
+  ASSERT_TRUE(fx.effects.outliers.has_value());
+  EXPECT_DOUBLE_EQ(fx.effects.outliers->fraction, 0.02);
+}
+
+// A Markov chain that stays with probability s and otherwise redraws from π repeats the
+// previous mode with probability s + (1 − s) Σ π_i².
+TEST(TwinEffects, ModePersistenceRepeatsModes) {
+  const Scenario s = with("effect-mode-persistence.yaml");
+  const TwinSeries series = simulate_series(s);
+  double repeats = 0;
+  for (std::size_t i = 1; i < series.ranges.size(); ++i) {
+    repeats += series.ranges[i].mode == series.ranges[i - 1].mode;
+  }
+  const double stay = s.effects.mode_persistence->stay_probability;
+  const double expected = stay + (1 - stay) * (0.55 * 0.55 + 0.45 * 0.45);
+  EXPECT_NEAR(repeats / static_cast<double>(series.ranges.size() - 1), expected, 0.01);
+}
+
+TEST(TwinEffects, OutliersAtTheirFraction) {
+  const TwinSeries series = simulate_series(with("effect-outliers.yaml"));
+  double outliers = 0;
+  for (const auto& r : series.ranges) outliers += r.mode == -1;
+  EXPECT_NEAR(outliers / static_cast<double>(series.ranges.size()), 0.02, 0.003);
+}
+
+TEST(TwinEffects, TimeDriftAddsToTheBias) {
+  const Scenario s = with("effect-time-drift.yaml");
+  for (const auto& r : simulate_series(s).ranges) {
+    ASSERT_NEAR(r.bias_mm - s.bias.at(r.junction_c), 0.5 * r.time_s / 3600.0, 1e-9);
+  }
+}
+
+// Heating (just after a power-on) adds to the bias; the extra term is k·60·dt^j/dt ≥ 0 while on.
+TEST(TwinEffects, HeatingHysteresisFollowsTheHeatingRate) {
+  const Scenario s = with("effect-heating-hysteresis.yaml");
+  double early = 0, late = 0;
+  int n_early = 0, n_late = 0;
+  for (const auto& r : simulate_series(s).ranges) {
+    const double extra = r.bias_mm - s.bias.at(r.junction_c);
+    const double since_on = std::fmod(r.time_s, 3600.0 + 560.0);
+    if (since_on < 60.0) {
+      early += extra;
+      ++n_early;
+    } else if (since_on > 3000.0) {
+      late += extra;
+      ++n_late;
+    }
+  }
+  EXPECT_GT(early / n_early, 0.3);          // the junction heats fast after switch-on
+  EXPECT_LT(std::abs(late / n_late), 0.1);  // and hardly at the end of an hour on
+}
+
+TEST(TwinEffects, TemperatureDependentWeightsShiftTheModes) {
+  const TwinSeries series = simulate_series(with("effect-temperature-weights.yaml"));
+  double warm = 0, warm_n = 0, cool = 0, cool_n = 0;
+  for (const auto& r : series.ranges) {
+    if (r.junction_c > 28.0) {
+      warm += r.mode == 1;
+      ++warm_n;
+    } else if (r.junction_c < 25.6) {
+      cool += r.mode == 1;
+      ++cool_n;
+    }
+  }
+  EXPECT_GT(warm / warm_n, cool / cool_n + 0.3);
+}
+
+TEST(TwinEffects, TemperatureDependentSpreadWidensWhenWarm) {
+  const Scenario s = with("effect-temperature-spread.yaml");
+  double warm2 = 0, warm_n = 0, cool2 = 0, cool_n = 0;
+  for (const auto& r : simulate_series(s).ranges) {
+    const double e = r.range_mm - r.true_range_mm - r.bias_mm - s.modes[r.mode].offset_mm;
+    if (r.junction_c > 28.0) {
+      warm2 += e * e;
+      ++warm_n;
+    } else if (r.junction_c < 25.6) {
+      cool2 += e * e;
+      ++cool_n;
+    }
+  }
+  EXPECT_GT(std::sqrt(warm2 / warm_n), 1.5 * std::sqrt(cool2 / cool_n));
+}
+
+// A 181-beam scan over 180° of a wall 3 m away: the centre beam sees 3 m, the beam 30° off
+// sees 3 m / cos 30°, the beams along the wall see nothing within range.
+TEST(TwinScan, WallGeometry) {
+  Scenario s = with("default.yaml");
+  s.scanner.beams = 181;
+  s.modes = {{0.0, 1e-6, 1.0}};
+  s.bias = {26.8, 0.0, 0.0, 0.0, 0.8};
+  Twin twin(s);
+  const auto scan = twin.scan();
+  ASSERT_EQ(scan.size(), 181u);
+  EXPECT_NEAR(scan[90].range_mm, 3000.0, 0.5);
+  EXPECT_NEAR(scan[60].range_mm, 3000.0 / std::cos(std::numbers::pi / 6), 0.5);
+  EXPECT_EQ(scan[0].status, ReadingStatus::NoEcho);
+  EXPECT_EQ(scan[180].status, ReadingStatus::NoEcho);
+}
+
+}  // namespace
+}  // namespace tofcomp::sim
