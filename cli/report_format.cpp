@@ -86,12 +86,12 @@ std::string thermal_fit_text(const ThermalFit& fit) {
   out += "  Algorithm 1 (datasheet): " + thermal_line(fit.algorithm1) + "\n";
   out += "  prediction-error fit:    " + thermal_line(fit.pem.parameters) + "\n";
   out += fmt::format(
-      "  training fit: RMS {:.4f} °C, Eq. 26 {:.3f} %, NRMSE fit {:.2f} % ({} "
+      "  training fit: RMS {:.4f} °C, Eq. 26 {:.5f} %, NRMSE fit {:.2f} % ({} "
       "iterations{})\n",
       fit.pem.rms_residual_c, fit.pem.paper_fit_percent, fit.pem.nrmse_fit_percent,
       fit.pem.iterations, fit.pem.converged ? "" : ", not converged");
   if (fit.has_held_out) {
-    out += fmt::format("  held-out fit: Eq. 26 {:.3f} % (paper: 92.79 %), NRMSE fit {:.2f} %\n",
+    out += fmt::format("  held-out fit: Eq. 26 {:.5f} % (paper: 92.79 %), NRMSE fit {:.2f} %\n",
                        fit.held_out_paper_fit_percent, fit.held_out_nrmse_fit_percent);
   }
   return out;
