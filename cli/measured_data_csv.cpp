@@ -58,9 +58,11 @@ void write_twin_series(const std::string& file, const sim::Scenario& scenario,
                     {"target", fmt::format("{} mm", scenario.true_range_mm)},
                     {"sensor_resolution_c", fmt::format("{}", scenario.sensor.resolution_c)}};
   table.columns = {"time_s", "range_mm", "case_temp_c", "power", "ambient_c", "true_range_mm"};
+  const bool several_beams = scenario.scanner.beams > 1;
+  if (several_beams) table.columns.insert(table.columns.begin() + 1, "beam");
+  std::vector<bool> truth_written(static_cast<std::size_t>(scenario.scanner.beams), false);
   // Merge the three event streams in time; at one instant: power change, reading, range.
   std::size_t p = 0, t = 0, r = 0;
-  bool truth_written = false;
   const double inf = std::numeric_limits<double>::infinity();
   while (p < series.power_changes.size() || t < series.temperatures.size() ||
          r < series.ranges.size()) {
@@ -80,9 +82,10 @@ void write_twin_series(const std::string& file, const sim::Scenario& scenario,
       const auto& range = series.ranges[r++];
       row.time_s = range.time_s;
       row.range_mm = range.range_mm;
-      if (!truth_written) {
+      if (several_beams) row.beam = range.beam;
+      if (!truth_written[static_cast<std::size_t>(range.beam)]) {
         row.true_range_mm = range.true_range_mm;
-        truth_written = true;
+        truth_written[static_cast<std::size_t>(range.beam)] = true;
       }
     }
     table.rows.push_back(row);

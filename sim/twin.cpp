@@ -168,12 +168,15 @@ TwinSeries simulate_series(const Scenario& scenario, const std::function<void(do
       ++sensor_tick;
     } else {
       if (on) {
-        const RangeReading r = twin.measure();
-        if (r.status == ReadingStatus::Valid) {
-          out.ranges.push_back(
-              {t, r.range_mm, r.true_range_mm, twin.junction_c(), r.bias_mm, r.mode});
-        } else {
-          ++out.no_echo_count;
+        const auto readings = twin.scan();
+        for (std::size_t b = 0; b < readings.size(); ++b) {
+          const RangeReading& r = readings[b];
+          if (r.status == ReadingStatus::Valid) {
+            out.ranges.push_back({t, static_cast<int>(b), r.range_mm, r.true_range_mm,
+                                  twin.junction_c(), r.bias_mm, r.mode});
+          } else {
+            ++out.no_echo_count;
+          }
         }
       }
       ++range_tick;

@@ -77,6 +77,7 @@ struct TwinSeries {
   };
   struct Range {
     double time_s;
+    int beam;
     double range_mm;
     double true_range_mm;
     // Ground truth the data file does not carry, for tests.
@@ -90,8 +91,8 @@ struct TwinSeries {
   int no_echo_count = 0;  // readings beyond the range limit, reported by the device as no echo
 };
 
-// Plays the whole power schedule: sensor readings every sensor period, a range every
-// range_period_s while the power is on, and each power change. `progress` (may be empty) is
+// Plays the whole power schedule: sensor readings every sensor period, a scan (one range per
+// beam) every range_period_s while the power is on, and each power change. `progress` (may be empty) is
 // called with the fraction done.
 TwinSeries simulate_series(const Scenario& scenario,
                            const std::function<void(double)>& progress = {});

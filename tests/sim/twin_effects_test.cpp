@@ -123,5 +123,19 @@ TEST(TwinScan, WallGeometry) {
   EXPECT_EQ(scan[180].status, ReadingStatus::NoEcho);
 }
 
+// A scanning scenario records every beam of every scan, at the scan times.
+TEST(TwinScan, SeriesRecordsEveryBeam) {
+  Scenario s = with("default.yaml");
+  s.scanner.beams = 181;
+  s.scanner.field_deg = 100.0;
+  s.power = {{true, 2.0}};
+  s.range_period_s = 1.0 / 75.0;
+  const TwinSeries series = simulate_series(s);
+  ASSERT_EQ(series.ranges.size(), 150u * 181u);  // 75 scans/s for 2 s, all beams in range
+  EXPECT_EQ(series.ranges[181].beam, 0);
+  EXPECT_NEAR(series.ranges[181].time_s, 1.0 / 75.0, 1e-12);
+  EXPECT_EQ(series.ranges[180].beam, 180);
+}
+
 }  // namespace
 }  // namespace tofcomp::sim
