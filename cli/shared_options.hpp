@@ -23,7 +23,9 @@ struct ThermalOptions {
   std::string datasheet;
   std::string free = "r2,c1,c2";
   double ambient_c = 22.0;
+  std::vector<double> kalman_noise;  // q_case, q_junction, r; empty: core::ThermalNoise's
   ThermalFitSettings settings() const;
+  core::ThermalNoise noise() const;
 };
 std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd);
 
