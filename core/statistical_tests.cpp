@@ -1,0 +1,159 @@
+#include "core/statistical_tests.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/validation.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+constexpr int kMaxTerms = 10000;
+constexpr double kRelativeTolerance = 1e-15;
+
+// P(a, x) by its power series: e^{−x} x^a / Γ(a+1) Σ x^n / ((a+1)…(a+n)).
+double lower_gamma_series(double a, double x) {
+  double term = 1.0 / a;
+  double sum = term;
+  for (int n = 1; n < kMaxTerms; ++n) {
+    term *= x / (a + n);
+    sum += term;
+    if (std::abs(term) < std::abs(sum) * kRelativeTolerance) break;
+  }
+  return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
+}
+
+// Q(a, x) by its continued fraction, evaluated with the modified Lentz method.
+double upper_gamma_fraction(double a, double x) {
+  constexpr double kTiny = 1e-300;
+  double b = x + 1.0 - a;
+  double c = 1.0 / kTiny;
+  double d = 1.0 / b;
+  double h = d;
+  for (int i = 1; i < kMaxTerms; ++i) {
+    const double an = -i * (i - a);
+    b += 2.0;
+    d = an * d + b;
+    if (std::abs(d) < kTiny) d = kTiny;
+    c = b + an / c;
+    if (std::abs(c) < kTiny) c = kTiny;
+    d = 1.0 / d;
+    const double delta = d * c;
+    h *= delta;
+    if (std::abs(delta - 1.0) < kRelativeTolerance) break;
+  }
+  return std::exp(-x + a * std::log(x) - std::lgamma(a)) * h;
+}
+
+}  // namespace
+
+double regularized_upper_gamma(double a, double x) {
+  require_positive(a, "gamma shape a");
+  if (!(x >= 0.0) || !std::isfinite(x)) throw InvalidInput("gamma argument x must be >= 0");
+  if (x == 0.0) return 1.0;
+  return x < a + 1.0 ? 1.0 - lower_gamma_series(a, x) : upper_gamma_fraction(a, x);
+}
+
+double chi_square_survival(double x, double df) {
+  return regularized_upper_gamma(0.5 * df, std::max(0.0, 0.5 * x));
+}
+
+double two_sided_normal_p(double z) { return std::erfc(std::abs(z) / std::sqrt(2.0)); }
+
+TestResult ljung_box(const Eigen::Ref<const Eigen::VectorXd>& series, int lags) {
+  const Eigen::Index n = series.size();
+  require_finite(series, "series");
+  if (lags < 1 || lags >= n) throw InvalidInput("Ljung-Box needs 1 <= lags < n");
+  const Eigen::ArrayXd centred = series.array() - series.mean();
+  const double variance = centred.square().sum();
+  if (!(variance > 0.0)) throw NumericalError("Ljung-Box on a constant series");
+  double q = 0.0;
+  for (int k = 1; k <= lags; ++k) {
+    const double rho = (centred.head(n - k) * centred.tail(n - k)).sum() / variance;
+    q += rho * rho / static_cast<double>(n - k);
+  }
+  q *= static_cast<double>(n) * static_cast<double>(n + 2);
+  return {q, chi_square_survival(q, lags), static_cast<double>(lags)};
+}
+
+TestResult runs_test(const Eigen::Ref<const Eigen::VectorXi>& labels) {
+  const Eigen::Index n = labels.size();
+  double n1 = 0.0;
+  double runs = n > 0 ? 1.0 : 0.0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (labels[k] != 0 && labels[k] != 1) throw InvalidInput("runs test labels must be 0 or 1");
+    n1 += labels[k];
+    if (k > 0 && labels[k] != labels[k - 1]) runs += 1.0;
+  }
+  const double n0 = static_cast<double>(n) - n1;
+  if (n0 < 2 || n1 < 2) throw NumericalError("runs test needs at least two of each label");
+  const double total = static_cast<double>(n);
+  const double mean = 2.0 * n0 * n1 / total + 1.0;
+  const double variance =
+      2.0 * n0 * n1 * (2.0 * n0 * n1 - total) / (total * total * (total - 1.0));
+  const double z = (runs - mean) / std::sqrt(variance);
+  return {z, two_sided_normal_p(z), 0.0};
+}
+
+TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
+                            const Eigen::Ref<const Eigen::VectorXd>& y) {
+  require_same_length(x.size(), "x", y.size(), "y");
+  require_finite(x, "x");
+  require_finite(y, "y");
+  const Eigen::Index n = x.size();
+  if (n < 4) throw InvalidInput("a correlation test needs at least four pairs");
+  const Eigen::ArrayXd dx = x.array() - x.mean();
+  const Eigen::ArrayXd dy = y.array() - y.mean();
+  const double sxx = dx.square().sum();
+  const double syy = dy.square().sum();
+  if (!(sxx > 0.0) || !(syy > 0.0)) return {0.0, 1.0, 0.0};
+  const double r = std::clamp((dx * dy).sum() / std::sqrt(sxx * syy), -1.0, 1.0);
+  const double denominator = std::max(1.0 - r * r, 1e-300);
+  const double z = r * std::sqrt(static_cast<double>(n - 2) / denominator);
+  return {r, two_sided_normal_p(z), static_cast<double>(n - 2)};
+}
+
+TestResult likelihood_ratio_test(double log_likelihood_null, double log_likelihood_alternative,
+                                 int extra_parameters) {
+  require_finite(log_likelihood_null, "null log-likelihood");
+  require_finite(log_likelihood_alternative, "alternative log-likelihood");
+  if (extra_parameters < 1) throw InvalidInput("a likelihood-ratio test needs extra parameters");
+  const double statistic = std::max(0.0, 2.0 * (log_likelihood_alternative - log_likelihood_null));
+  return {statistic, chi_square_survival(statistic, extra_parameters),
+          static_cast<double>(extra_parameters)};
+}
+
+TestResult chi_square_independence(const Eigen::Ref<const Eigen::MatrixXd>& counts) {
+  require_finite(counts, "contingency counts");
+  const double total = counts.sum();
+  if (!(total > 0.0)) throw InvalidInput("an empty contingency table");
+  const Eigen::VectorXd rows = counts.rowwise().sum();
+  const Eigen::RowVectorXd cols = counts.colwise().sum();
+  double statistic = 0.0;
+  int used_rows = 0, used_cols = 0;
+  for (Eigen::Index r = 0; r < counts.rows(); ++r) used_rows += rows[r] > 0.0;
+  for (Eigen::Index c = 0; c < counts.cols(); ++c) used_cols += cols[c] > 0.0;
+  for (Eigen::Index r = 0; r < counts.rows(); ++r) {
+    for (Eigen::Index c = 0; c < counts.cols(); ++c) {
+      const double expected = rows[r] * cols[c] / total;
+      if (expected > 0.0) statistic += (counts(r, c) - expected) * (counts(r, c) - expected) / expected;
+    }
+  }
+  const int df = (used_rows - 1) * (used_cols - 1);
+  if (df < 1) return {0.0, 1.0, 0.0};
+  return {statistic, chi_square_survival(statistic, df), static_cast<double>(df)};
+}
+
+TestResult tail_excess_test(double observed, double n, double tail_probability) {
+  if (!(n > 0.0) || !(tail_probability > 0.0 && tail_probability < 1.0) || observed < 0.0) {
+    throw InvalidInput("tail excess test needs n > 0, 0 < p < 1, observed >= 0");
+  }
+  const double expected = n * tail_probability;
+  const double sd = std::sqrt(n * tail_probability * (1.0 - tail_probability));
+  const double z = (observed - 0.5 - expected) / sd;
+  return {observed / expected, 0.5 * std::erfc(z / std::sqrt(2.0)), 0.0};
+}
+
+}  // namespace tofcomp::core

@@ -1,0 +1,47 @@
+// Classical tests the residual diagnosis uses, each returning its statistic and p-value.
+// Pure functions on vectors; the distributions' tails are computed from the regularized
+// incomplete gamma function and erfc, accurate to ~1e-12 relative.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace tofcomp::core {
+
+struct TestResult {
+  double statistic = 0.0;
+  double p_value = 1.0;
+  double degrees_of_freedom = 0.0;  // where the reference law has them
+};
+
+// Q(a, x) = Γ(a, x) / Γ(a), the regularized upper incomplete gamma function (a > 0, x ≥ 0).
+double regularized_upper_gamma(double a, double x);
+// P(χ²_df > x).
+double chi_square_survival(double x, double df);
+// P(|N(0,1)| > |z|).
+double two_sided_normal_p(double z);
+
+// Ljung–Box: Q = n(n+2) Σ_{k=1..h} ρ_k² / (n − k) against χ²_h; small p: serial dependence.
+TestResult ljung_box(const Eigen::Ref<const Eigen::VectorXd>& series, int lags);
+
+// Wald–Wolfowitz runs test on a two-valued sequence (labels 0/1): the number of runs against
+// its mean 2 n0 n1 / n + 1 and variance; statistic z (negative: fewer runs, i.e. persistence).
+TestResult runs_test(const Eigen::Ref<const Eigen::VectorXi>& labels);
+
+// Pearson correlation of x and y with the large-sample test z = r √(n − 2) / √(1 − r²)
+// (approximately normal for the sample sizes here); statistic = r.
+TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
+                            const Eigen::Ref<const Eigen::VectorXd>& y);
+
+// Likelihood-ratio test of a nested extension: 2 (ℓ1 − ℓ0) against χ²_df.
+TestResult likelihood_ratio_test(double log_likelihood_null, double log_likelihood_alternative,
+                                 int extra_parameters);
+
+// Pearson χ² test of independence of a contingency table of counts (rows × columns).
+TestResult chi_square_independence(const Eigen::Ref<const Eigen::MatrixXd>& counts);
+
+// Excess of extreme values: of n values, `observed` beyond a bound that each exceeds with
+// probability `tail_probability` under the model; one-sided binomial test via the normal
+// approximation with continuity correction; statistic = observed / expected.
+TestResult tail_excess_test(double observed, double n, double tail_probability);
+
+}  // namespace tofcomp::core

@@ -1,0 +1,86 @@
+#include "core/statistical_tests.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/error.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+// Reference values: the χ² and normal quantiles printed in every statistics table, and closed
+// forms (Q(1, x) = e^{−x}; for two degrees of freedom P(χ² > x) = e^{−x/2}).
+TEST(StatisticalTests, TailsMatchTables) {
+  EXPECT_NEAR(chi_square_survival(3.841458820694124, 1), 0.05, 1e-12);
+  EXPECT_NEAR(chi_square_survival(18.307038053275146, 10), 0.05, 1e-12);
+  EXPECT_NEAR(chi_square_survival(2.0, 2), std::exp(-1.0), 1e-14);
+  EXPECT_NEAR(chi_square_survival(124.34211340400407, 100), 0.05, 1e-10);
+  EXPECT_NEAR(regularized_upper_gamma(1.0, 7.5), std::exp(-7.5), 1e-15);
+  EXPECT_NEAR(regularized_upper_gamma(1.0, 0.3), std::exp(-0.3), 1e-15);
+  EXPECT_NEAR(two_sided_normal_p(1.959963984540054), 0.05, 1e-14);
+  EXPECT_THROW(regularized_upper_gamma(0.0, 1.0), InvalidInput);
+}
+
+TEST(StatisticalTests, LjungBoxByHand) {
+  const Eigen::Vector4d alternating(1, -1, 1, -1);
+  const TestResult r = ljung_box(alternating, 1);  // ρ1 = −3/4, Q = 4·6·(9/16)/3
+  EXPECT_NEAR(r.statistic, 4.5, 1e-12);
+  EXPECT_NEAR(r.p_value, chi_square_survival(4.5, 1), 1e-15);
+}
+
+// White noise: the 5 % test rejects about 5 % of the time; AR(1) with φ = 0.5 always.
+TEST(StatisticalTests, LjungBoxSizeAndPower) {
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> n01;
+  int rejections = 0;
+  const int runs = 400;
+  for (int run = 0; run < runs; ++run) {
+    Eigen::VectorXd white(500), ar(500);
+    double previous = 0.0;
+    for (int k = 0; k < 500; ++k) {
+      white[k] = n01(rng);
+      previous = 0.5 * previous + n01(rng);
+      ar[k] = previous;
+    }
+    rejections += ljung_box(white, 10).p_value < 0.05;
+    EXPECT_LT(ljung_box(ar, 10).p_value, 1e-10);
+  }
+  EXPECT_NEAR(rejections / static_cast<double>(runs), 0.05, 0.03);
+}
+
+TEST(StatisticalTests, RunsTest) {
+  Eigen::VectorXi labels(6);
+  labels << 0, 0, 1, 1, 0, 1;  // 4 runs; mean 2·3·3/6 + 1 = 4
+  EXPECT_NEAR(runs_test(labels).statistic, 0.0, 1e-12);
+  Eigen::VectorXi blocks(200);
+  for (int k = 0; k < 200; ++k) blocks[k] = (k / 20) % 2;  // 10 long runs: persistence
+  const TestResult r = runs_test(blocks);
+  EXPECT_LT(r.statistic, -10.0);
+  EXPECT_LT(r.p_value, 1e-20);
+  Eigen::VectorXi one_kind = Eigen::VectorXi::Zero(10);
+  EXPECT_THROW(runs_test(one_kind), NumericalError);
+}
+
+TEST(StatisticalTests, CorrelationAndIndependence) {
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(50, 0.0, 1.0);
+  EXPECT_NEAR(correlation_test(x, 2.0 * x).statistic, 1.0, 1e-12);
+  EXPECT_LT(correlation_test(x, 2.0 * x).p_value, 1e-100);
+  Eigen::Matrix2d table;
+  table << 10, 20, 30, 40;  // expected 12, 18, 28, 42
+  const TestResult c = chi_square_independence(table);
+  EXPECT_NEAR(c.statistic, 4.0 / 12 + 4.0 / 18 + 4.0 / 28 + 4.0 / 42, 1e-12);
+  EXPECT_EQ(c.degrees_of_freedom, 1.0);
+  const TestResult lr = likelihood_ratio_test(-100.0, -98.0, 1);
+  EXPECT_DOUBLE_EQ(lr.statistic, 4.0);
+  EXPECT_NEAR(lr.p_value, chi_square_survival(4.0, 1), 1e-15);
+  // 30 values beyond a 1 % bound among 1000: 3× the expected 10.
+  const TestResult tail = tail_excess_test(30, 1000, 0.01);
+  EXPECT_DOUBLE_EQ(tail.statistic, 3.0);
+  EXPECT_LT(tail.p_value, 1e-6);
+  EXPECT_GT(tail_excess_test(10, 1000, 0.01).p_value, 0.3);
+}
+
+}  // namespace
+}  // namespace tofcomp::core
