@@ -30,5 +30,6 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
 void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner& run);
+void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 
 }  // namespace tofcomp::cli

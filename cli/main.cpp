@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   register_select(app, common, run);
   register_test(app, common, run);
   register_evaluate(app, common, run);
+  register_diagnose(app, common, run);
 
   try {
     app.parse(argc, argv);

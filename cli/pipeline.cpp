@@ -82,6 +82,19 @@ Compensation compensate(const MeasuredData& data, const io::Calibration& calibra
   return out;
 }
 
+core::Diagnosis diagnose(const MeasuredData& data, const io::Calibration& calibration) {
+  constexpr double kRateHalfWindowS = 30.0;
+  data.require_true_ranges();
+  const Compensation compensation = compensate(data, calibration);
+  core::DiagnosisInput input;
+  input.time_s = data.range_time_s;
+  input.junction_c = compensation.junction.junction_c;
+  input.junction_rate_c_per_s =
+      core::local_rate(data.range_time_s, compensation.junction.junction_c, kRateHalfWindowS);
+  input.residual = data.range_mm - data.true_range_mm - compensation.bias_mm;
+  return core::diagnose_residuals(input, calibration.model.noise);
+}
+
 std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
                                                const io::Calibration& calibration,
                                                const Compensation& compensation,

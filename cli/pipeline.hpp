@@ -10,6 +10,7 @@
 #include "cli/measured_data.hpp"
 #include "core/em_train.hpp"
 #include "core/estimators.hpp"
+#include "core/residual_diagnosis.hpp"
 #include "core/thermal_identification.hpp"
 #include "io/calibration_file.hpp"
 
@@ -62,6 +63,10 @@ struct Compensation {
   Eigen::VectorXd bias_mm;
 };
 Compensation compensate(const MeasuredData& data, const io::Calibration& calibration);
+
+// The residual diagnosis (core/residual_diagnosis.hpp) of data with a known distance under a
+// calibration; the junction's heating rate is its smoothed estimate's slope over ±30 s.
+core::Diagnosis diagnose(const MeasuredData& data, const io::Calibration& calibration);
 
 struct WindowEvaluation {
   Eigen::Index window = 0;

@@ -60,7 +60,14 @@ double chi_square_survival(double x, double df) {
   return regularized_upper_gamma(0.5 * df, std::max(0.0, 0.5 * x));
 }
 
-double two_sided_normal_p(double z) { return std::erfc(std::abs(z) / std::sqrt(2.0)); }
+double chi_square_to_z(double x, double df) {
+  const double v = 2.0 / (9.0 * df);
+  return (std::cbrt(std::max(x, 0.0) / df) - (1.0 - v)) / std::sqrt(v);
+}
+
+double two_sided_normal_p(double z) {
+  return std::erfc(std::abs(z) / std::sqrt(2.0));
+}
 
 TestResult ljung_box(const Eigen::Ref<const Eigen::VectorXd>& series, int lags) {
   const Eigen::Index n = series.size();
@@ -75,7 +82,7 @@ TestResult ljung_box(const Eigen::Ref<const Eigen::VectorXd>& series, int lags) 
     q += rho * rho / static_cast<double>(n - k);
   }
   q *= static_cast<double>(n) * static_cast<double>(n + 2);
-  return {q, chi_square_survival(q, lags), static_cast<double>(lags)};
+  return {q, chi_square_survival(q, lags), static_cast<double>(lags), chi_square_to_z(q, lags)};
 }
 
 TestResult runs_test(const Eigen::Ref<const Eigen::VectorXi>& labels) {
@@ -91,10 +98,9 @@ TestResult runs_test(const Eigen::Ref<const Eigen::VectorXi>& labels) {
   if (n0 < 2 || n1 < 2) throw NumericalError("runs test needs at least two of each label");
   const double total = static_cast<double>(n);
   const double mean = 2.0 * n0 * n1 / total + 1.0;
-  const double variance =
-      2.0 * n0 * n1 * (2.0 * n0 * n1 - total) / (total * total * (total - 1.0));
+  const double variance = 2.0 * n0 * n1 * (2.0 * n0 * n1 - total) / (total * total * (total - 1.0));
   const double z = (runs - mean) / std::sqrt(variance);
-  return {z, two_sided_normal_p(z), 0.0};
+  return {z, two_sided_normal_p(z), 0.0, std::abs(z)};
 }
 
 TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
@@ -112,7 +118,7 @@ TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
   const double r = std::clamp((dx * dy).sum() / std::sqrt(sxx * syy), -1.0, 1.0);
   const double denominator = std::max(1.0 - r * r, 1e-300);
   const double z = r * std::sqrt(static_cast<double>(n - 2) / denominator);
-  return {r, two_sided_normal_p(z), static_cast<double>(n - 2)};
+  return {r, two_sided_normal_p(z), static_cast<double>(n - 2), std::abs(z)};
 }
 
 TestResult likelihood_ratio_test(double log_likelihood_null, double log_likelihood_alternative,
@@ -122,7 +128,7 @@ TestResult likelihood_ratio_test(double log_likelihood_null, double log_likeliho
   if (extra_parameters < 1) throw InvalidInput("a likelihood-ratio test needs extra parameters");
   const double statistic = std::max(0.0, 2.0 * (log_likelihood_alternative - log_likelihood_null));
   return {statistic, chi_square_survival(statistic, extra_parameters),
-          static_cast<double>(extra_parameters)};
+          static_cast<double>(extra_parameters), chi_square_to_z(statistic, extra_parameters)};
 }
 
 TestResult chi_square_independence(const Eigen::Ref<const Eigen::MatrixXd>& counts) {
@@ -138,12 +144,14 @@ TestResult chi_square_independence(const Eigen::Ref<const Eigen::MatrixXd>& coun
   for (Eigen::Index r = 0; r < counts.rows(); ++r) {
     for (Eigen::Index c = 0; c < counts.cols(); ++c) {
       const double expected = rows[r] * cols[c] / total;
-      if (expected > 0.0) statistic += (counts(r, c) - expected) * (counts(r, c) - expected) / expected;
+      if (expected > 0.0)
+        statistic += (counts(r, c) - expected) * (counts(r, c) - expected) / expected;
     }
   }
   const int df = (used_rows - 1) * (used_cols - 1);
   if (df < 1) return {0.0, 1.0, 0.0};
-  return {statistic, chi_square_survival(statistic, df), static_cast<double>(df)};
+  return {statistic, chi_square_survival(statistic, df), static_cast<double>(df),
+          chi_square_to_z(statistic, df)};
 }
 
 TestResult tail_excess_test(double observed, double n, double tail_probability) {
@@ -153,7 +161,7 @@ TestResult tail_excess_test(double observed, double n, double tail_probability) 
   const double expected = n * tail_probability;
   const double sd = std::sqrt(n * tail_probability * (1.0 - tail_probability));
   const double z = (observed - 0.5 - expected) / sd;
-  return {observed / expected, 0.5 * std::erfc(z / std::sqrt(2.0)), 0.0};
+  return {observed / expected, 0.5 * std::erfc(z / std::sqrt(2.0)), 0.0, z};
 }
 
 }  // namespace tofcomp::core

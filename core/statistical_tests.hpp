@@ -11,7 +11,13 @@ struct TestResult {
   double statistic = 0.0;
   double p_value = 1.0;
   double degrees_of_freedom = 0.0;  // where the reference law has them
+  // The statistic on a common scale: the standard-normal deviate with the same upper tail
+  // (Wilson–Hilferty for χ²), so findings can be ranked where p-values underflow to 0.
+  double z = 0.0;
 };
+
+// The standard-normal deviate of a χ²_df statistic (Wilson and Hilferty, 1931).
+double chi_square_to_z(double x, double df);
 
 // Q(a, x) = Γ(a, x) / Γ(a), the regularized upper incomplete gamma function (a > 0, x ≥ 0).
 double regularized_upper_gamma(double a, double x);

@@ -1,0 +1,187 @@
+#include "core/residual_diagnosis.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/validation.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+constexpr Eigen::Index kMinRanges = 100;
+constexpr int kTemperatureBins = 4;
+
+Finding make(EffectKind kind, const char* test, const char* covariate, TestResult result) {
+  return Finding{kind, test, covariate, result, false};
+}
+
+// The quartile of each temperature (0..3) by rank.
+Eigen::VectorXi quartiles(const Eigen::VectorXd& t) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(t.size()));
+  for (Eigen::Index i = 0; i < t.size(); ++i) order[static_cast<std::size_t>(i)] = i;
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return t[a] < t[b]; });
+  Eigen::VectorXi bin(t.size());
+  for (std::size_t rank = 0; rank < order.size(); ++rank) {
+    bin[order[rank]] = static_cast<int>(rank * kTemperatureBins / order.size());
+  }
+  return bin;
+}
+
+// Ranks 0..n−1 (ties broken by position: the values here are continuous).
+Eigen::VectorXd ranks(const Eigen::VectorXd& v) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(v.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i) order[static_cast<std::size_t>(i)] = i;
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return v[a] < v[b]; });
+  Eigen::VectorXd r(v.size());
+  for (std::size_t i = 0; i < order.size(); ++i) r[order[i]] = static_cast<double>(i);
+  return r;
+}
+
+// Per mode, a scale that outliers do not inflate: 1.4826 × the median absolute deviation of
+// the mode's compensated residuals (σ for Gaussian data).
+Eigen::VectorXd robust_scale(const Eigen::VectorXd& compensated, const Eigen::VectorXi& mode,
+                             const MixtureParameters& mixture) {
+  Eigen::VectorXd scale(mixture.modes());
+  for (int i = 0; i < mixture.modes(); ++i) {
+    std::vector<double> deviations;
+    for (Eigen::Index k = 0; k < compensated.size(); ++k) {
+      if (mode[k] == i) deviations.push_back(std::abs(compensated[k]));
+    }
+    if (deviations.size() < 10) {
+      scale[i] = std::sqrt(mixture.variance[i]);
+      continue;
+    }
+    auto middle = deviations.begin() + static_cast<std::ptrdiff_t>(deviations.size() / 2);
+    std::nth_element(deviations.begin(), middle, deviations.end());
+    scale[i] = std::max(1.4826 * *middle, 1e-12);
+  }
+  return scale;
+}
+
+// Tests of one structured effect rank before the generic symptoms (heavy tails, serial
+// dependence) that any unmodelled structure also produces.
+bool generic(EffectKind kind) {
+  return kind == EffectKind::Outliers || kind == EffectKind::SerialDependence;
+}
+
+}  // namespace
+
+const char* effect_name(EffectKind kind) {
+  switch (kind) {
+    case EffectKind::ModePersistence:
+      return "mode persistence";
+    case EffectKind::TemperatureDependentWeights:
+      return "temperature-dependent mode weights";
+    case EffectKind::TemperatureDependentSpread:
+      return "temperature-dependent spread";
+    case EffectKind::Outliers:
+      return "outliers";
+    case EffectKind::HeatingHysteresis:
+      return "heating hysteresis";
+    case EffectKind::TimeDrift:
+      return "time drift";
+    case EffectKind::SerialDependence:
+      return "serial dependence";
+  }
+  return "unknown";
+}
+
+Eigen::VectorXd local_rate(const Eigen::Ref<const Eigen::VectorXd>& time_s,
+                           const Eigen::Ref<const Eigen::VectorXd>& value, double half_window_s) {
+  require_same_length(time_s.size(), "time", value.size(), "value");
+  require_positive(half_window_s, "rate half window");
+  const Eigen::Index n = time_s.size();
+  Eigen::VectorXd rate = Eigen::VectorXd::Zero(n);
+  // Running sums over a window [lo, hi) that slides with k: O(K) overall.
+  Eigen::Index lo = 0, hi = 0;
+  double st = 0, sv = 0, stt = 0, stv = 0, count = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    while (hi < n && time_s[hi] <= time_s[k] + half_window_s) {
+      const double t = time_s[hi] - time_s[0];
+      st += t, sv += value[hi], stt += t * t, stv += t * value[hi], count += 1;
+      ++hi;
+    }
+    while (time_s[lo] < time_s[k] - half_window_s) {
+      const double t = time_s[lo] - time_s[0];
+      st -= t, sv -= value[lo], stt -= t * t, stv -= t * value[lo], count -= 1;
+      ++lo;
+    }
+    const double denominator = count * stt - st * st;
+    rate[k] = denominator > 1e-9 * count * count ? (count * stv - st * sv) / denominator : 0.0;
+  }
+  return rate;
+}
+
+Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& mixture,
+                             const DiagnosisOptions& options) {
+  const Eigen::Index n = in.residual.size();
+  require_same_length(in.time_s.size(), "time", n, "residual");
+  require_same_length(in.junction_c.size(), "junction temperature", n, "residual");
+  require_same_length(in.junction_rate_c_per_s.size(), "junction rate", n, "residual");
+  require_finite(in.residual, "residual");
+  require_finite(in.junction_c, "junction temperature");
+  require_finite(in.junction_rate_c_per_s, "junction rate");
+  mixture.validate();
+  if (n < kMinRanges) throw InvalidInput("the diagnosis needs at least 100 ranges");
+
+  Diagnosis d;
+  Eigen::MatrixXd r;
+  mixture_e_step(in.residual, mixture, r);
+  d.mode.resize(n);
+  d.compensated.resize(n);
+  d.standardized.resize(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    Eigen::Index best = 0;
+    r.row(k).maxCoeff(&best);
+    d.mode[k] = static_cast<int>(best);
+    d.compensated[k] = in.residual[k] - mixture.mean[best];
+    d.standardized[k] = d.compensated[k] / std::sqrt(mixture.variance[best]);
+  }
+
+  if (mixture.modes() >= 2) {
+    const Eigen::VectorXi first = (d.mode.array() == 0).cast<int>();
+    if (first.sum() >= 2 && n - first.sum() >= 2) {
+      d.findings.push_back(make(EffectKind::ModePersistence, "runs test",
+                                "order of the modes in time", runs_test(first)));
+      d.findings.back().result.z = -d.findings.back().result.statistic;  // fewer runs
+    }
+    const Eigen::VectorXi bin = quartiles(in.junction_c);
+    Eigen::MatrixXd table = Eigen::MatrixXd::Zero(kTemperatureBins, mixture.modes());
+    for (Eigen::Index k = 0; k < n; ++k) table(bin[k], d.mode[k]) += 1.0;
+    d.findings.push_back(make(EffectKind::TemperatureDependentWeights, "chi-square independence",
+                              "junction temperature quartile", chi_square_independence(table)));
+  }
+  // Rank correlation, so that a few large residuals do not pass for a change of spread.
+  d.findings.push_back(make(
+      EffectKind::TemperatureDependentSpread, "Spearman correlation", "junction temperature vs |z|",
+      correlation_test(ranks(in.junction_c), ranks(d.standardized.cwiseAbs()))));
+  const Eigen::VectorXd scale = robust_scale(d.compensated, d.mode, mixture);
+  double beyond = 0.0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    beyond += std::abs(d.compensated[k]) / scale[d.mode[k]] > options.tail_z;
+  }
+  d.findings.push_back(
+      make(EffectKind::Outliers, "tail excess", "|e| > 4.5 robust sigma",
+           tail_excess_test(beyond, static_cast<double>(n), two_sided_normal_p(options.tail_z))));
+  d.findings.push_back(make(EffectKind::HeatingHysteresis, "correlation", "junction heating rate",
+                            correlation_test(in.junction_rate_c_per_s, d.compensated)));
+  d.findings.push_back(make(EffectKind::TimeDrift, "correlation", "time",
+                            correlation_test(in.time_s, d.compensated)));
+  d.findings.push_back(make(
+      EffectKind::SerialDependence, "Ljung-Box", "lags 1..20",
+      ljung_box(d.compensated, std::min<int>(options.ljung_box_lags, static_cast<int>(n / 4)))));
+
+  const double level = options.alpha / static_cast<double>(d.findings.size());
+  for (auto& f : d.findings) {
+    f.significant = f.result.p_value < level && f.result.z > 0.0;
+  }
+  std::stable_sort(d.findings.begin(), d.findings.end(), [](const Finding& a, const Finding& b) {
+    if (a.significant != b.significant) return a.significant;
+    if (a.significant && generic(a.kind) != generic(b.kind)) return !generic(a.kind);
+    return a.result.z > b.result.z;
+  });
+  return d;
+}
+
+}  // namespace tofcomp::core

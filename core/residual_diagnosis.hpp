@@ -1,0 +1,77 @@
+// Finds in the residuals of a trained Eq. 8 what the model lacks. After training, each range
+// gets its most probable mode (Eq. 18) and its mode-compensated residual
+// e_k = y_k − d − H_k θ̂ − μ_i, standardized z_k = e_k / σ_i. Each candidate effect is one
+// established test against one covariate the data carry:
+//   mode persistence            runs test on the sequence of most probable modes
+//   temperature-dependent weights  χ² independence of mode and junction-temperature quartile
+//   temperature-dependent spread  rank correlation of |z| with the junction temperature
+//   outliers (heavy tails)      excess of |e| > 4.5 robust σ (per mode, from the MAD) over
+//                               the Gaussian tail
+//   heating hysteresis          correlation of e with the junction's rate of change
+//   time drift                  correlation of e with time
+//   serial dependence           Ljung–Box on e (what is left once the above are accounted)
+// A finding is significant at level α / (number of tests) (Bonferroni), so that data with no
+// effect raise any finding with probability at most α. Significant findings come first, those
+// of a structured effect before the generic symptoms (tails, serial dependence), each group by
+// its z.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/gaussian_mixture.hpp"
+#include "core/statistical_tests.hpp"
+
+namespace tofcomp::core {
+
+enum class EffectKind {
+  ModePersistence,
+  TemperatureDependentWeights,
+  TemperatureDependentSpread,
+  Outliers,
+  HeatingHysteresis,
+  TimeDrift,
+  SerialDependence,
+};
+
+const char* effect_name(EffectKind kind);
+
+struct Finding {
+  EffectKind kind;
+  std::string test;       // the test used, e.g. "runs test"
+  std::string covariate;  // what the residual was tested against
+  TestResult result;
+  bool significant = false;
+};
+
+struct DiagnosisInput {
+  Eigen::VectorXd time_s;
+  Eigen::VectorXd junction_c;
+  Eigen::VectorXd junction_rate_c_per_s;
+  Eigen::VectorXd residual;  // y − d − H θ̂ (modes still in it)
+};
+
+struct DiagnosisOptions {
+  double alpha = 0.05;  // family-wise false-alarm level
+  int ljung_box_lags = 20;
+  double tail_z = 4.5;
+};
+
+struct Diagnosis {
+  std::vector<Finding> findings;  // ranked, most significant first
+  Eigen::VectorXi mode;           // most probable mode of each range
+  Eigen::VectorXd compensated;    // e_k
+  Eigen::VectorXd standardized;   // z_k
+};
+
+// Throws InvalidInput on mismatched lengths, non-finite values or fewer than 100 ranges.
+Diagnosis diagnose_residuals(const DiagnosisInput& input, const MixtureParameters& mixture,
+                             const DiagnosisOptions& options = {});
+
+// The time derivative of a sampled signal by least-squares slopes over ±half_window_s around
+// each sample (the junction's heating rate from its smoothed estimate). O(K).
+Eigen::VectorXd local_rate(const Eigen::Ref<const Eigen::VectorXd>& time_s,
+                           const Eigen::Ref<const Eigen::VectorXd>& value, double half_window_s);
+
+}  // namespace tofcomp::core
