@@ -12,23 +12,12 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "tests/support/thermal_examples.hpp"
 
 namespace tofcomp::core {
 namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-// Fast round numbers (time constants ≈ 6 s and 64 s), so that short records exercise the
-// dynamics: R1 = 2, R2 = 4, C1 = 5, C2 = 10, P = 3.
-ThermalParameters fast_parameters() {
-  ThermalParameters p;
-  p.r1_k_per_w = 2.0;
-  p.r2_k_per_w = 4.0;
-  p.c1_j_per_k = 5.0;
-  p.c2_j_per_k = 10.0;
-  p.power_w = 3.0;
-  return p;
-}
 
 struct Record {
   Eigen::VectorXd times, power, ambient, reading;
@@ -67,7 +56,7 @@ ThermalBelief prior() {
 
 // Q_T by Simpson's rule on ∫_0^T e^{As} Q_c e^{Aᵀs} ds.
 TEST(KalmanProcessNoise, VanLoanEqualsQuadrature) {
-  const ThermalParameters p = fast_parameters();
+  const ThermalParameters p = testing::round_thermal_parameters();
   const ThermalNoise n = loud_noise();
   const Eigen::Matrix2d a = continuous_model(p).a;
   const Eigen::Matrix2d qc = Eigen::Vector2d(1e-3, 5e-3).asDiagonal();
@@ -114,7 +103,7 @@ TEST(KalmanProcessNoise, LongStepsReachTheStationaryCovariance) {
 // solution of the same linear-Gaussian problem: all states stacked, with the prior, every
 // dynamics step (weight Q_k⁻¹) and every available reading (weight 1/r) as equations.
 TEST(KalmanSmoother, EqualsBatchWeightedLeastSquares) {
-  const ThermalParameters p = fast_parameters();
+  const ThermalParameters p = testing::round_thermal_parameters();
   const ThermalNoise n = loud_noise();
   const ThermalBelief b = prior();
   const Record r = small_record();
@@ -161,7 +150,7 @@ TEST(KalmanSmoother, EqualsBatchWeightedLeastSquares) {
 
 // The last smoothed estimate conditions on the same readings as the filter's last estimate.
 TEST(KalmanSmoother, LastEstimateIsTheFilters) {
-  const ThermalParameters p = fast_parameters();
+  const ThermalParameters p = testing::round_thermal_parameters();
   const ThermalNoise n = loud_noise();
   const Record r = small_record();
   ThermalKalmanFilter filter(p, n, prior());
@@ -244,7 +233,7 @@ TEST(KalmanSmoother, MixedRateRecordGivesTheJunctionEverywhere) {
 }
 
 TEST(ThermalKalmanFilter, BadInputThrowsAndLeavesTheStateAlone) {
-  const ThermalParameters p = fast_parameters();
+  const ThermalParameters p = testing::round_thermal_parameters();
   ThermalKalmanFilter filter(p, loud_noise(), prior());
   filter.predict(0.5, 1.0, 22.0);
   const ThermalBelief before = filter.belief();

@@ -7,20 +7,10 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "tests/support/thermal_examples.hpp"
 
 namespace tofcomp::core {
 namespace {
-
-// Round numbers for hand computation: R1 = 2, R2 = 4, C1 = 5, C2 = 10, P = 3.
-ThermalParameters round_parameters() {
-  ThermalParameters p;
-  p.r1_k_per_w = 2.0;
-  p.r2_k_per_w = 4.0;
-  p.c1_j_per_k = 5.0;
-  p.c2_j_per_k = 10.0;
-  p.power_w = 3.0;
-  return p;
-}
 
 // Eq. 3 written out independently of core/: the right-hand side for state x and inputs u, t^a.
 Eigen::Vector2d eq3(const ThermalParameters& p, const Eigen::Vector2d& x, double u, double ta) {
@@ -44,7 +34,7 @@ Eigen::Vector2d rk4(const ThermalParameters& p, Eigen::Vector2d x, double u, dou
 }
 
 TEST(ThermalModel, ContinuousMatricesAreEq3) {
-  const ContinuousThermalModel m = continuous_model(round_parameters());
+  const ContinuousThermalModel m = continuous_model(testing::round_thermal_parameters());
   // 1/(R2 C2) = 1/40, 1/(R1 C2) = 1/20, 1/(R1 C1) = 1/10, P/C1 = 0.6.
   EXPECT_DOUBLE_EQ(m.a(0, 0), -0.075);
   EXPECT_DOUBLE_EQ(m.a(0, 1), 0.05);
@@ -54,13 +44,14 @@ TEST(ThermalModel, ContinuousMatricesAreEq3) {
   EXPECT_EQ(m.b_ambient, Eigen::Vector2d(0.025, 0.0));
   // Agrees with the independent right-hand side at an arbitrary point.
   const Eigen::Vector2d x(23.0, 27.5);
-  EXPECT_LT((m.a * x + m.b_power * 0.7 + m.b_ambient * 21.0 - eq3(round_parameters(), x, 0.7, 21.0))
+  EXPECT_LT((m.a * x + m.b_power * 0.7 + m.b_ambient * 21.0 -
+             eq3(testing::round_thermal_parameters(), x, 0.7, 21.0))
                 .norm(),
             1e-12);
 }
 
 TEST(ThermalModel, EulerMatricesAreEq6) {
-  const DiscreteThermalModel d = discretize_euler(round_parameters(), 0.5);
+  const DiscreteThermalModel d = discretize_euler(testing::round_thermal_parameters(), 0.5);
   // A = [[1 − 0.5/40 − 0.5/20, 0.5/20], [0.5/10, 1 − 0.5/10]], B·P = [0, 0.5/5 · 3],
   // B′ = [0.5/40, 0].
   EXPECT_DOUBLE_EQ(d.a(0, 0), 0.9625);
@@ -77,9 +68,9 @@ TEST(ThermalModel, EulerMatricesAreEq6) {
 // The fast eigenvalue of Eq. 3 for the round parameters is (−0.175 − √0.010625)/2 ≈ −0.1593,
 // so Euler is stable for T < 2/0.1593 ≈ 12.55 s.
 TEST(ThermalModel, EulerRejectsAnUnstableStep) {
-  EXPECT_NO_THROW(discretize_euler(round_parameters(), 12.5));
-  EXPECT_THROW(discretize_euler(round_parameters(), 12.6), InvalidInput);
-  EXPECT_THROW(discretize_euler(round_parameters(), 0.0), InvalidInput);
+  EXPECT_NO_THROW(discretize_euler(testing::round_thermal_parameters(), 12.5));
+  EXPECT_THROW(discretize_euler(testing::round_thermal_parameters(), 12.6), InvalidInput);
+  EXPECT_THROW(discretize_euler(testing::round_thermal_parameters(), 0.0), InvalidInput);
 }
 
 // Each column of the exact hold is the response of Eq. 3 to a unit state or input.
