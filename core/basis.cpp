@@ -58,8 +58,9 @@ void fourier_columns(double t, int order, double f0, double* out) {
       c = std::cos((n + 1) * angle);
       s = std::sin((n + 1) * angle);
     }
-    out[2 * n] = c;
-    out[2 * n + 1] = s;
+    double* pair = out + 2 * static_cast<std::ptrdiff_t>(n);
+    pair[0] = c;
+    pair[1] = s;
     const double next_c = c * c1 - s * s1;
     const double next_s = s * c1 + c * s1;
     c = next_c;

@@ -169,7 +169,7 @@ void validate_arguments(const Eigen::Ref<const Eigen::MatrixXd>& h,
   if (!(o.min_mode_weight >= 0.0 && o.min_mode_weight < 1.0 / o.modes)) {
     throw InvalidInput("min_mode_weight must be in [0, 1/M)");
   }
-  const Eigen::Index parameters = h.cols() + 3 * o.modes - 1;
+  const Eigen::Index parameters = h.cols() + 3 * static_cast<Eigen::Index>(o.modes) - 1;
   if (y.size() <= parameters) {
     std::ostringstream msg;
     msg << "EM training: " << y.size() << " samples cannot determine " << parameters
