@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "cli/command.hpp"
+#include "cli/covariate_extension.hpp"
 #include "cli/progress.hpp"
 #include "cli/shared_options.hpp"
 
@@ -15,11 +16,19 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
   auto data = add_data_options(*cmd);
   auto training = add_training_options(*cmd);
   auto calibration = std::make_shared<std::string>();
+  auto window = std::make_shared<long>(400);
+  auto stride = std::make_shared<long>(10);
   cmd->add_option("--calibration", *calibration,
                   "A calibration trained on these data (default: train one)")
       ->check(CLI::ExistingFile);
-  cmd->callback([&common, &run, data, training, calibration] {
-    run = [&common, data, training, calibration] {
+  cmd->add_option("--window", *window, "Window length of the held-out comparison")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--stride", *stride, "Samples between held-out windows")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->callback([&common, &run, data, training, calibration, window, stride] {
+    run = [&common, data, training, calibration, window, stride] {
       Progress progress("diagnose", !common.quiet);
       const MeasuredData measured = data->load();
       measured.require_true_ranges();
@@ -54,6 +63,30 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
           any ? fmt::format("* significant at 5 % family-wise (Bonferroni); the model lacks: {}\n",
                             core::effect_name(d.findings.front().kind))
               : "no finding is significant at 5 % family-wise: the model explains the data\n";
+      if (any && has_covariate_extension(d.findings.front().kind)) {
+        // Held-out data decide: train on the first half of the cycles, test on the rest.
+        const double split = split_time(measured, 0.5);
+        const ExtensionReport e = evaluate_covariate_extension(
+            d.findings.front().kind, measured.slice(-1e300, split), measured.slice(split, 1e300),
+            training->settings(), *window, *stride);
+        result.json["extension"] = {{"effect", core::effect_name(e.effect)},
+                                    {"covariate", e.covariate},
+                                    {"coefficient_mm", e.coefficient},
+                                    {"window", e.window},
+                                    {"held_out_mae_before_mm", e.before.mean_absolute_error},
+                                    {"held_out_mae_after_mm", e.after.mean_absolute_error},
+                                    {"held_out_rmse_before_mm", e.before.rmse},
+                                    {"held_out_rmse_after_mm", e.after.rmse},
+                                    {"kept", e.kept}};
+        text += fmt::format(
+            "extension: + gamma * {} (gamma = {:.4g} mm per unit); held-out d hat over windows of "
+            "{}: MAE {:.3f} -> {:.3f} mm (factor {:.2f}), RMSE {:.3f} -> {:.3f} mm; {}\n",
+            e.covariate, e.coefficient, e.window, e.before.mean_absolute_error,
+            e.after.mean_absolute_error, e.before.mean_absolute_error / e.after.mean_absolute_error,
+            e.before.rmse, e.after.rmse, e.kept ? "kept" : "not kept (no held-out gain)");
+      } else if (any) {
+        text += "extension: none fitted for this effect yet\n";
+      }
       result.text = text;
       return result;
     };

@@ -2,8 +2,10 @@
 // data with no effect raise no finding in at least 95 % of seeds.
 #include <gtest/gtest.h>
 
+#include "cli/covariate_extension.hpp"
 #include "cli/measured_data_csv.hpp"
 #include "cli/pipeline.hpp"
+#include "core/error.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
 
@@ -57,6 +59,48 @@ TEST(Diagnose, FalseAlarmsOnDataWithoutEffect) {
     alarms += !d.findings.empty() && d.findings.front().significant;
   }
   EXPECT_LE(alarms, 3);
+}
+
+}  // namespace
+}  // namespace tofcomp::cli
+
+namespace tofcomp::cli {
+namespace {
+
+MeasuredData twin_data(const std::string& name) {
+  const sim::Scenario scenario =
+      sim::load_scenario_file(kRoot + "/config/scenarios/" + name + ".yaml");
+  const std::string file = ::testing::TempDir() + "/ext_" + name + ".csv";
+  write_twin_series(file, scenario, sim::simulate_series(scenario));
+  std::vector<std::string> warnings;
+  return read_measured_data(file, 0, warnings);
+}
+
+// The covariate extensions recover the twin's coefficient and are kept by held-out data.
+TEST(CovariateExtension, RecoversTheEffectAndIsKept) {
+  TrainSettings settings;
+  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  struct Expect {
+    const char* scenario;
+    core::EffectKind effect;
+    double coefficient;  // the scenario's parameter
+    double min_factor;   // held-out MAE before / after
+  };
+  for (const Expect& e :
+       {Expect{"effect-time-drift", core::EffectKind::TimeDrift, 0.5, 3.0},
+        Expect{"effect-heating-hysteresis", core::EffectKind::HeatingHysteresis, 2.0, 1.2}}) {
+    const MeasuredData data = twin_data(e.scenario);
+    const double split = split_time(data, 0.5);
+    const ExtensionReport r = evaluate_covariate_extension(
+        e.effect, data.slice(-1e300, split), data.slice(split, 1e300), settings, 400, 20);
+    EXPECT_NEAR(r.coefficient, e.coefficient, 0.2 * e.coefficient) << e.scenario;
+    EXPECT_TRUE(r.kept) << e.scenario;
+    EXPECT_GT(r.before.mean_absolute_error / r.after.mean_absolute_error, e.min_factor)
+        << e.scenario;
+  }
+  EXPECT_THROW(evaluate_covariate_extension(core::EffectKind::Outliers, twin_data("default"),
+                                            twin_data("default"), settings, 400, 20),
+               core::InvalidInput);
 }
 
 }  // namespace
