@@ -4,7 +4,9 @@
 
 #include <limits>
 
-#include "io/interchange_csv.hpp"
+#include "io/measurement_csv.hpp"
+#include "io/measurement_series.hpp"
+#include "io/measurement_table_builder.hpp"
 
 namespace tofcomp::cli {
 
@@ -15,51 +17,40 @@ MeasuredData read_measured_data(const std::string& file, int beam,
   MeasuredData data;
   data.source = file;
   data.beam = beam;
-  std::vector<double> range_time, range, truth, temp_time, temp;
-  std::optional<double> true_range;  // of this beam, holding until set again
-  bool power = true;
-  for (const auto& row : table.rows) {
-    const bool this_beam = row.beam.value_or(0) == beam;
-    if (row.true_range_mm && this_beam) true_range = row.true_range_mm;
-    if (row.power && (*row.power == 1) != power) {
-      power = *row.power == 1;
-      data.power_changes.emplace_back(row.time_s, power);
-    }
-    if (row.ambient_c) data.ambient.emplace_back(row.time_s, *row.ambient_c);
-    if (row.case_temp_c) {
-      temp_time.push_back(row.time_s);
-      temp.push_back(*row.case_temp_c);
-    }
-    if (row.range_mm && this_beam) {
-      range_time.push_back(row.time_s);
-      range.push_back(*row.range_mm);
-      truth.push_back(true_range.value_or(0.0));
-      data.has_true_range.push_back(true_range.has_value());
-      data.range_line.push_back(row.line);
-    }
+  const io::BeamRanges ranges = io::beam_ranges(table, beam);
+  const auto count = static_cast<Eigen::Index>(ranges.time_s.size());
+  data.range_time_s = Eigen::Map<const Eigen::VectorXd>(ranges.time_s.data(), count);
+  data.range_mm = Eigen::Map<const Eigen::VectorXd>(ranges.range_mm.data(), count);
+  data.true_range_mm.resize(count);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    const auto& truth = ranges.true_range_mm[static_cast<std::size_t>(k)];
+    data.true_range_mm[k] = truth.value_or(0.0);
+    data.has_true_range.push_back(truth.has_value());
   }
-  auto to_vector = [](const std::vector<double>& v) {
-    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-  };
-  data.range_time_s = to_vector(range_time);
-  data.range_mm = to_vector(range);
-  data.true_range_mm = to_vector(truth);
-  data.temperature_time_s = to_vector(temp_time);
-  data.case_c = to_vector(temp);
+  data.range_line = ranges.line;
+  const io::TimedSamples temperatures = io::case_temperatures(table);
+  const auto readings = static_cast<Eigen::Index>(temperatures.time_s.size());
+  data.temperature_time_s = Eigen::Map<const Eigen::VectorXd>(temperatures.time_s.data(), readings);
+  data.case_c = Eigen::Map<const Eigen::VectorXd>(temperatures.value.data(), readings);
+  for (const auto& change : io::power_changes(table)) {
+    data.power_changes.emplace_back(change.time_s, change.on);
+  }
+  const io::TimedSamples ambient = io::ambient_temperatures(table);
+  for (std::size_t i = 0; i < ambient.time_s.size(); ++i) {
+    data.ambient.emplace_back(ambient.time_s[i], ambient.value[i]);
+  }
   return data;
 }
 
 void write_twin_series(const std::string& file, const sim::Scenario& scenario,
                        const sim::TwinSeries& series) {
-  io::MeasurementTable table;
-  table.metadata = {{"source", "tofcomp digital twin"},
-                    {"scenario", scenario.name},
-                    {"seed", std::to_string(scenario.seed)},
-                    {"target", fmt::format("{} mm", scenario.true_range_mm)},
-                    {"sensor_resolution_c", fmt::format("{}", scenario.sensor.resolution_c)}};
-  table.columns = {"time_s", "range_mm", "case_temp_c", "power", "ambient_c", "true_range_mm"};
+  io::MeasurementTableBuilder table;
+  table.add_metadata("source", "tofcomp digital twin");
+  table.add_metadata("scenario", scenario.name);
+  table.add_metadata("seed", std::to_string(scenario.seed));
+  table.add_metadata("target", fmt::format("{} mm", scenario.true_range_mm));
+  table.add_metadata("sensor_resolution_c", fmt::format("{}", scenario.sensor.resolution_c));
   const bool several_beams = scenario.scanner.beams > 1;
-  if (several_beams) table.columns.insert(table.columns.begin() + 1, "beam");
   std::vector<bool> truth_written(static_cast<std::size_t>(scenario.scanner.beams), false);
   // Merge the three event streams in time; at one instant: power change, reading, range.
   std::size_t p = 0, t = 0, r = 0;
@@ -72,7 +63,7 @@ void write_twin_series(const std::string& file, const sim::Scenario& scenario,
     io::MeasurementRow row;
     if (tp <= tt && tp <= tr) {
       row.time_s = tp;
-      row.power = series.power_changes[p++].on ? 1 : 0;
+      row.power = series.power_changes[p++].on;
     } else if (tt <= tr) {
       const auto& reading = series.temperatures[t++];
       row.time_s = reading.time_s;
@@ -88,9 +79,9 @@ void write_twin_series(const std::string& file, const sim::Scenario& scenario,
         truth_written[static_cast<std::size_t>(range.beam)] = true;
       }
     }
-    table.rows.push_back(row);
+    table.append(row);
   }
-  io::write_measurements_file(file, table);
+  io::write_measurements_file(file, table.finish());
 }
 
 }  // namespace tofcomp::cli

@@ -3,19 +3,21 @@
 // fsync the directory.
 #pragma once
 
+#include <filesystem>
 #include <functional>
 #include <ostream>
-#include <string>
 #include <string_view>
 
 namespace tofcomp::io {
 
 // Throws core::Error naming the file and the system error on any failure; the temporary file
 // is removed then.
-void write_file_atomically(const std::string& file, std::string_view contents);
+void write_file_atomically(const std::filesystem::path& file, std::string_view contents);
 
-// The same, for writers that stream: `write` fills the stream.
-void write_file_atomically(const std::string& file,
+// The same, for writers that stream: `write` fills the stream, which goes to the temporary file
+// through a fixed buffer (the contents are never held in memory whole). An exception thrown by
+// `write` removes the temporary file, leaves the target as it was, and propagates.
+void write_file_atomically(const std::filesystem::path& file,
                            const std::function<void(std::ostream&)>& write);
 
 }  // namespace tofcomp::io

@@ -1,0 +1,166 @@
+// read_measurements: one pass over the lines, metadata until the header, then data rows.
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
+#include "io/measurement_cells.hpp"
+#include "io/measurement_csv.hpp"
+
+namespace tofcomp::io {
+namespace {
+
+constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+
+// Splits at every comma into `cells`, reusing its storage.
+void split_cells(std::string_view line, std::vector<std::string_view>& cells) {
+  cells.clear();
+  for (;;) {
+    const std::size_t comma = line.find(',');
+    cells.push_back(line.substr(0, comma));
+    if (comma == std::string_view::npos) return;
+    line.remove_prefix(comma + 1);
+  }
+}
+
+class MeasurementCsvReader {
+ public:
+  explicit MeasurementCsvReader(std::string_view source) : source_(source) {}
+
+  // One line of the file, without its line end.
+  void take_line(std::string_view line, long number) {
+    const MeasurementPlace at{source_, number};
+    if (number == 1 && line.starts_with(kByteOrderMark)) line.remove_prefix(kByteOrderMark.size());
+    if (line.find('\r') != std::string_view::npos) {
+      at.fail("", "a carriage return inside a line (line ends are \\n or \\r\\n)");
+    }
+    if (trim_blanks(line).empty()) return;  // a row with no value at all
+    if (!kinds_.empty()) {
+      take_row(line, at);
+    } else if (line.front() == '#') {
+      take_metadata(line.substr(1));
+    } else {
+      take_header(line, at);
+    }
+  }
+
+  MeasurementTable finish(long lines) && {
+    if (kinds_.empty()) {
+      MeasurementPlace{source_, lines + 1}.fail("", "no header row (the file is empty)");
+    }
+    return std::move(table_);
+  }
+
+ private:
+  void take_metadata(std::string_view body) {
+    const std::size_t colon = body.find(':');
+    if (colon == std::string_view::npos) {
+      table_.metadata.push_back({std::string(trim_blanks(body)), ""});
+    } else {
+      table_.metadata.push_back({std::string(trim_blanks(body.substr(0, colon))),
+                                 std::string(trim_blanks(body.substr(colon + 1)))});
+    }
+  }
+
+  void take_header(std::string_view line, const MeasurementPlace& at) {
+    split_cells(line, cells_);
+    std::string unknown;
+    for (const std::string_view cell : cells_) {
+      const std::string_view name = trim_blanks(cell);
+      table_.columns.emplace_back(name);
+      kinds_.push_back(measurement_column_named(name));
+      if (!kinds_.back()) unknown.append(unknown.empty() ? "" : ", ").append(name);
+    }
+    check_column_names(table_.columns, at);
+    if (!unknown.empty()) {
+      table_.warnings.push_back(std::string(source_) + ":" + std::to_string(at.line) +
+                                ": unknown columns kept out of the analysis: " + unknown);
+    }
+  }
+
+  void take_row(std::string_view line, const MeasurementPlace& at) {
+    split_cells(line, cells_);
+    if (cells_.size() != kinds_.size()) {
+      const std::string counts = "the row has " + std::to_string(cells_.size()) +
+                                 " cells, the header " + std::to_string(kinds_.size()) + " columns";
+      at.fail(cells_.size() < kinds_.size() ? std::string_view(table_.columns[cells_.size()])
+                                            : std::string_view(),
+              counts);
+    }
+    MeasurementRow row;
+    row.line = at.line;
+    bool has_value = false;
+    bool has_time = false;
+    for (std::size_t c = 0; c < cells_.size(); ++c) {
+      const std::string_view cell = trim_blanks(cells_[c]);
+      has_value = has_value || !cell.empty();
+      if (!kinds_[c]) {
+        row.unknown_cells.emplace_back(cells_[c]);
+      } else if (!cell.empty()) {
+        has_time = has_time || *kinds_[c] == MeasurementColumn::Time;
+        take_cell(*kinds_[c], cell, row, at);
+      }
+    }
+    if (!has_value) return;
+    if (!has_time) at.fail(column_name(MeasurementColumn::Time), "empty in a row that has values");
+    rules_.admit(row, at);
+    table_.rows.push_back(std::move(row));
+  }
+
+  static void take_cell(MeasurementColumn column, std::string_view cell, MeasurementRow& row,
+                        const MeasurementPlace& at) {
+    const std::string_view name = column_name(column);
+    switch (column) {
+      case MeasurementColumn::Time:
+        row.time_s = parse_number_cell(cell, name, at);
+        break;
+      case MeasurementColumn::Range:
+        row.range_mm = parse_number_cell(cell, name, at);
+        break;
+      case MeasurementColumn::Beam:
+        row.beam = parse_beam_cell(cell, at);
+        break;
+      case MeasurementColumn::CaseTemp:
+        row.case_temp_c = parse_number_cell(cell, name, at);
+        break;
+      case MeasurementColumn::Power:
+        row.power = parse_power_cell(cell, at);
+        break;
+      case MeasurementColumn::Ambient:
+        row.ambient_c = parse_number_cell(cell, name, at);
+        break;
+      case MeasurementColumn::TrueRange:
+        row.true_range_mm = parse_number_cell(cell, name, at);
+        break;
+    }
+  }
+
+  std::string_view source_;
+  MeasurementTable table_;
+  std::vector<std::optional<MeasurementColumn>> kinds_;  // empty until the header is read
+  std::vector<std::string_view> cells_;
+  RowSequenceRules rules_;
+};
+
+}  // namespace
+
+MeasurementTable read_measurements(std::istream& in, std::string_view source_name) {
+  MeasurementCsvReader reader(source_name);
+  std::string line;
+  long number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    std::string_view text(line);
+    if (text.ends_with('\r')) text.remove_suffix(1);
+    reader.take_line(text, number);
+  }
+  if (in.bad()) throw core::Error(std::string(source_name) + ": the stream failed while reading");
+  return std::move(reader).finish(number);
+}
+
+MeasurementTable read_measurements_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw core::Error(file.string() + ": cannot be opened: " + std::strerror(errno));
+  return read_measurements(in, file.string());
+}
+
+}  // namespace tofcomp::io
