@@ -31,5 +31,6 @@ void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& 
 void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner& run);
+void register_emulate(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 
 }  // namespace tofcomp::cli

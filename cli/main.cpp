@@ -1,5 +1,6 @@
 // tofcomp: the command line over measured data — simulate, thermal-fit, train, select, test,
-// evaluate. Results go to stdout (text, or JSON with --json); progress and errors to stderr.
+// evaluate, diagnose — and the emulated LMS 200 (emulate). Results go to stdout (text, or JSON
+// with --json); progress and errors to stderr.
 // Exit status: 0 success, 1 the work failed (the message says why), 2 bad command line.
 #include <cstdio>
 #include <exception>
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
   register_test(app, common, run);
   register_evaluate(app, common, run);
   register_diagnose(app, common, run);
+  register_emulate(app, common, run);
 
   try {
     app.parse(argc, argv);

@@ -133,6 +133,13 @@ RangeReading Twin::measure(int beam) {
   return r;
 }
 
+void Twin::set_output(const ScannerOutput& output) {
+  Scenario changed = scenario_;
+  changed.scanner = output;
+  changed.validate();
+  scenario_.scanner = output;
+}
+
 std::vector<RangeReading> Twin::scan() {
   std::vector<RangeReading> readings;
   readings.reserve(static_cast<std::size_t>(scenario_.scanner.beams));

@@ -49,6 +49,9 @@ class Twin {
   std::vector<RangeReading> scan();
   // dt^j/dt now, °C/s (Eq. 3).
   double junction_rate_c_per_s() const;
+  // Changes what the device reports from now on (units, range limit, beams and field), as an
+  // emulated device does when its host reconfigures it. Throws InvalidInput on a bad output.
+  void set_output(const ScannerOutput& output);
 
  private:
   Scenario scenario_;
@@ -92,8 +95,8 @@ struct TwinSeries {
 };
 
 // Plays the whole power schedule: sensor readings every sensor period, a scan (one range per
-// beam) every range_period_s while the power is on, and each power change. `progress` (may be empty) is
-// called with the fraction done.
+// beam) every range_period_s while the power is on, and each power change. `progress` (may be
+// empty) is called with the fraction done.
 TwinSeries simulate_series(const Scenario& scenario,
                            const std::function<void(double)>& progress = {});
 

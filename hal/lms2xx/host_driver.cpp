@@ -1,0 +1,430 @@
+#include "hal/lms2xx/host_driver.hpp"
+
+#include <algorithm>
+#include <vector>
+
+#include "core/error.hpp"
+#include "hal/lms2xx/messages.hpp"
+
+namespace tofcomp::hal::lms2xx {
+
+namespace asio = boost::asio;
+using asio::awaitable;
+using asio::use_awaitable;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// A failure of the link that ends this attempt; the supervisor starts over.
+class LinkError : public core::Error {
+ public:
+  using core::Error::Error;
+};
+
+std::string hex(std::uint8_t byte) {
+  static const char* digits = "0123456789ABCDEF";
+  return std::string("0x") + digits[byte >> 4] + digits[byte & 0xf];
+}
+
+}  // namespace
+
+// The request in flight: what answers it, and what has come so far.
+struct Lms2xxDriver::Pending {
+  std::uint8_t reply_code = 0;
+  bool acked = false;
+  std::chrono::steady_clock::time_point acked_at;
+  bool naked = false;
+  std::optional<Telegram> reply;
+};
+
+void DriverSettings::validate() const {
+  if (device.empty()) throw core::InvalidInput("lms2xx driver: device: no serial port given");
+  if (!is_supported_baud(baud)) {
+    throw core::InvalidInput("lms2xx driver: baud: " + std::to_string(baud) +
+                             " is none of 9600, 19200, 38400, 500000");
+  }
+  if (!variant.is_valid()) {
+    throw core::InvalidInput("lms2xx driver: variant " + to_string(variant) +
+                             " does not exist (100° or 180°; 1°, 0.5°, or 0.25° with 100° only)");
+  }
+  if (attempts < 1 || ack_timeout.count() <= 0 || reply_timeout.count() <= 0 ||
+      scan_timeout.count() <= 0 || backoff_initial.count() <= 0 || backoff_max < backoff_initial) {
+    throw core::InvalidInput(
+        "lms2xx driver: attempts, timeouts and backoff must be positive, backoff_max >= "
+        "backoff_initial");
+  }
+}
+
+std::string to_string(LinkState state) {
+  switch (state) {
+    case LinkState::Stopped:
+      return "stopped";
+    case LinkState::Connecting:
+      return "connecting";
+    case LinkState::Configuring:
+      return "configuring";
+    case LinkState::Streaming:
+      return "streaming";
+    case LinkState::Backoff:
+      return "backoff";
+  }
+  return "unknown";
+}
+
+Lms2xxDriver::Lms2xxDriver(asio::io_context& io, DriverSettings settings, ScanHandler on_scan,
+                           StateHandler on_state)
+    : io_(io),
+      settings_(std::move(settings)),
+      on_scan_(std::move(on_scan)),
+      on_state_(std::move(on_state)),
+      port_(io),
+      reply_wait_(io),
+      idle_timer_(io, Clock::time_point::max()),
+      watch_timer_(io) {
+  settings_.validate();
+}
+
+Lms2xxDriver::~Lms2xxDriver() = default;
+
+const DriverCounters& Lms2xxDriver::counters() const {
+  counters_.decoder = decoder_.counters();
+  return counters_;
+}
+
+void Lms2xxDriver::start() {
+  stopping_ = false;
+  asio::co_spawn(io_, supervise(), asio::detached);
+  asio::co_spawn(io_, idle_flusher(), asio::detached);
+}
+
+void Lms2xxDriver::stop() {
+  stopping_ = true;
+  close_port();
+  reply_wait_.cancel();
+  idle_timer_.cancel();
+  watch_timer_.cancel();
+  set_state(LinkState::Stopped, "stopped by the host");
+}
+
+void Lms2xxDriver::set_state(LinkState state, const std::string& why) {
+  state_ = state;
+  if (on_state_) on_state_(state, why);
+}
+
+std::chrono::steady_clock::duration Lms2xxDriver::line_time(std::size_t bytes) const {
+  return std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(10.0 * static_cast<double>(bytes) / port_baud_));
+}
+
+void Lms2xxDriver::open_port() {
+  boost::system::error_code ec;
+  port_.open(settings_.device, ec);
+  if (ec) throw LinkError("cannot open " + settings_.device + ": " + ec.message());
+  using base = asio::serial_port_base;
+  port_.set_option(base::character_size(8), ec);
+  if (!ec) port_.set_option(base::parity(base::parity::none), ec);
+  if (!ec) port_.set_option(base::stop_bits(base::stop_bits::one), ec);
+  if (!ec) port_.set_option(base::flow_control(base::flow_control::none), ec);
+  if (ec) throw LinkError("cannot set 8N1 on " + settings_.device + ": " + ec.message());
+  decoder_.reset();
+  link_lost_ = false;
+  asio::co_spawn(io_, reader(++reader_generation_), asio::detached);
+}
+
+void Lms2xxDriver::close_port() {
+  ++reader_generation_;
+  boost::system::error_code ignored;
+  if (port_.is_open()) {
+    port_.cancel(ignored);
+    port_.close(ignored);
+  }
+}
+
+void Lms2xxDriver::set_port_baud(unsigned baud) {
+  boost::system::error_code ec;
+  port_.set_option(asio::serial_port_base::baud_rate(baud), ec);
+  if (ec) {
+    throw LinkError("cannot set " + std::to_string(baud) + " Bd on " + settings_.device + ": " +
+                    ec.message());
+  }
+  port_baud_ = baud;
+  decoder_.reset();
+}
+
+awaitable<void> Lms2xxDriver::sleep(Clock::duration d) {
+  asio::steady_timer timer(io_, d);
+  boost::system::error_code ec;
+  co_await timer.async_wait(asio::redirect_error(use_awaitable, ec));
+}
+
+awaitable<void> Lms2xxDriver::supervise() {
+  auto backoff = settings_.backoff_initial;
+  bool port_usable = false;
+  while (!stopping_) {
+    std::string why;
+    try {
+      if (!port_usable) {
+        set_state(LinkState::Connecting, "opening " + settings_.device);
+        close_port();
+        open_port();
+        port_usable = true;
+      }
+      set_state(LinkState::Configuring, "bringing the device up");
+      co_await bring_up();
+      backoff = settings_.backoff_initial;
+      ++counters_.bring_ups;
+      set_state(LinkState::Streaming, "streaming at " + std::to_string(port_baud_) + " Bd");
+      why = co_await watch_stream();
+      if (link_lost_) port_usable = false;
+      if (stopping_) break;
+      set_state(LinkState::Configuring, why);
+      continue;  // a lost stream is re-established at once
+    } catch (const LinkError& e) {
+      why = e.what();
+    }
+    if (stopping_) break;
+    close_port();
+    port_usable = false;
+    set_state(LinkState::Backoff, why);
+    co_await sleep(backoff);
+    backoff = std::min(backoff * 2, settings_.backoff_max);
+  }
+}
+
+awaitable<void> Lms2xxDriver::reader(std::uint64_t generation) {
+  std::vector<std::uint8_t> buffer(4096);
+  for (;;) {
+    boost::system::error_code ec;
+    const std::size_t n = co_await port_.async_read_some(asio::buffer(buffer),
+                                                         asio::redirect_error(use_awaitable, ec));
+    if (generation != reader_generation_) co_return;
+    if (ec) {
+      ++counters_.link_losses;
+      link_lost_ = true;
+      reply_wait_.cancel();
+      watch_timer_.cancel();
+      co_return;
+    }
+    const auto now = Clock::now();
+    last_byte_ = now;
+    decoder_.feed(std::span(buffer.data(), n), [&](const DecoderEvent& e) { dispatch(e, now); });
+    // A frame left incomplete is truncated if the line stays quiet this long.
+    idle_timer_.expires_at(decoder_.pending_bytes() > 0
+                               ? now + std::chrono::milliseconds(20) + line_time(32)
+                               : Clock::time_point::max());
+  }
+}
+
+awaitable<void> Lms2xxDriver::idle_flusher() {
+  while (!stopping_) {
+    boost::system::error_code ec;
+    co_await idle_timer_.async_wait(asio::redirect_error(use_awaitable, ec));
+    if (stopping_) co_return;
+    if (ec) continue;  // re-armed by the reader
+    idle_timer_.expires_at(Clock::time_point::max());
+    const auto now = Clock::now();
+    decoder_.flush_idle([&](const DecoderEvent& e) { dispatch(e, now); });
+  }
+}
+
+void Lms2xxDriver::dispatch(const DecoderEvent& event, Clock::time_point when) {
+  if (event.kind != DecoderEvent::Kind::Telegram) {
+    if (pending_) {
+      (event.kind == DecoderEvent::Kind::Ack ? pending_->acked : pending_->naked) = true;
+      pending_->acked_at = when;
+      reply_wait_.cancel();
+    }
+    return;
+  }
+  const Telegram& t = *event.telegram;
+  if (t.command == kPowerOnReply) {
+    ++counters_.device_resets;
+    device_reset_seen_ = true;
+    watch_timer_.cancel();
+    reply_wait_.cancel();
+    return;
+  }
+  if (pending_ && t.command == pending_->reply_code && t.command != kScanReply) {
+    pending_->reply = t;
+    reply_wait_.cancel();
+    return;
+  }
+  if (t.command != kScanReply || !accepting_scans_) return;
+  HostScan scan;
+  try {
+    scan.scan = decode_scan_data(t.data, settings_.measuring_mode);
+  } catch (const core::InvalidInput&) {
+    ++counters_.rejected_scans;
+    return;
+  }
+  if (scan.scan.distance_codes.size() !=
+          static_cast<std::size_t>(settings_.variant.values_per_scan()) ||
+      scan.scan.units != settings_.units) {
+    ++counters_.rejected_scans;
+    return;
+  }
+  scan.sequence = counters_.scans++;
+  scan.received = when;
+  scan.received_wall = std::chrono::system_clock::now();
+  scan.measuring_mode = settings_.measuring_mode;
+  last_scan_ = when;
+  if (on_scan_) on_scan_(scan);
+}
+
+awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& reply) {
+  pending_ = std::make_unique<Pending>();
+  pending_->reply_code = static_cast<std::uint8_t>(request.command | kReplyFlag);
+  const auto bytes = encode_telegram(request);
+  decoder_.expect_ack();
+  boost::system::error_code ec;
+  co_await asio::async_write(port_, asio::buffer(bytes), asio::redirect_error(use_awaitable, ec));
+  if (ec) {
+    link_lost_ = true;
+    pending_.reset();
+    throw LinkError("writing to " + settings_.device + " failed: " + ec.message());
+  }
+  // A streamed scan may be on the line ahead of the answer: while bytes keep arriving, the wait
+  // stretches by up to one longest telegram's line time. A silent line fails fast, so a search
+  // for the device's rate does not wait out the line time of 9600 Bd at every wrong rate.
+  const auto sent = Clock::now();
+  const auto in_flight = line_time(kMaxPayloadBytes + kFrameOverheadBytes + bytes.size());
+  const auto stretched = [&](Clock::time_point base, Clock::duration wait) {
+    const bool line_busy = last_byte_ > sent;
+    return line_busy ? std::min(base + wait + in_flight, last_byte_ + wait) : base + wait;
+  };
+  for (;;) {
+    if (link_lost_ || stopping_) {
+      pending_.reset();
+      throw LinkError(stopping_ ? "stopped" : "the link to " + settings_.device + " was lost");
+    }
+    if (pending_->reply) {
+      reply = *pending_->reply;
+      pending_.reset();
+      co_return true;
+    }
+    if (pending_->naked) {
+      ++counters_.naks;
+      pending_.reset();
+      co_return false;
+    }
+    const auto deadline = pending_->acked ? stretched(pending_->acked_at, settings_.reply_timeout)
+                                          : stretched(sent, settings_.ack_timeout);
+    if (Clock::now() >= deadline) {
+      ++counters_.timeouts;
+      pending_.reset();
+      co_return false;
+    }
+    reply_wait_.expires_at(deadline);
+    co_await reply_wait_.async_wait(asio::redirect_error(use_awaitable, ec));
+  }
+}
+
+awaitable<Telegram> Lms2xxDriver::transact(const Telegram& request, int attempts) {
+  Telegram reply;
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    if (co_await exchange_once(request, reply)) co_return reply;
+  }
+  throw LinkError("request " + hex(request.command) + " got no answer in " +
+                  std::to_string(attempts) + " attempts at " + std::to_string(port_baud_) + " Bd");
+}
+
+awaitable<bool> Lms2xxDriver::probe(unsigned baud) {
+  set_port_baud(baud);
+  Telegram reply;
+  if (!co_await exchange_once(status_request(), reply)) co_return false;
+  try {
+    static_cast<void>(parse_status_reply(reply));
+  } catch (const core::InvalidInput&) {
+    co_return false;
+  }
+  co_return true;
+}
+
+awaitable<unsigned> Lms2xxDriver::find_rate() {
+  // The rate the device was last seen at first (a dropped line leaves it there), then the
+  // power-on rate, the configured one, and the rest.
+  std::vector<unsigned> order;
+  const auto add = [&order](unsigned b) {
+    if (std::find(order.begin(), order.end(), b) == order.end()) order.push_back(b);
+  };
+  if (last_device_baud_) add(*last_device_baud_);
+  add(kPowerOnBaud);
+  add(settings_.baud);
+  for (const unsigned b : kSupportedBauds) add(b);
+  for (int round = 0; round < 2; ++round) {
+    for (const unsigned baud : order) {
+      if (co_await probe(baud)) {
+        if (baud != order.front()) ++counters_.rate_searches;
+        if (last_device_baud_ && *last_device_baud_ != kPowerOnBaud && baud == kPowerOnBaud &&
+            !device_reset_seen_) {
+          ++counters_.device_resets;  // found at the power-on rate: it restarted unseen
+        }
+        device_reset_seen_ = false;
+        last_device_baud_ = baud;
+        co_return baud;
+      }
+    }
+  }
+  throw LinkError("no answer from " + settings_.device + " at any rate");
+}
+
+awaitable<void> Lms2xxDriver::bring_up() {
+  const int n = settings_.attempts;
+  accepting_scans_ = false;
+  const unsigned found = co_await find_rate();
+  if (found != settings_.baud) {
+    const Telegram reply =
+        co_await transact(switch_mode_request(*mode_for_baud(settings_.baud)), n);
+    if (parse_mode_switch_reply(reply) != ModeSwitchResult::Success) {
+      throw LinkError("the device refused to switch to " + std::to_string(settings_.baud) + " Bd");
+    }
+    last_device_baud_ = settings_.baud;
+    set_port_baud(settings_.baud);
+  }
+  const VariantReply variant =
+      parse_variant_reply(co_await transact(variant_request(settings_.variant), n));
+  if (!variant.accepted || !(variant.active == settings_.variant)) {
+    throw LinkError("the device refused the variant " + to_string(settings_.variant));
+  }
+  ConfigurationBlock block =
+      parse_configuration_reply(co_await transact(configuration_request(), n));
+  if (block.units() != settings_.units || block.measuring_mode() != settings_.measuring_mode) {
+    if (parse_mode_switch_reply(co_await transact(installation_mode_request(), n)) !=
+        ModeSwitchResult::Success) {
+      throw LinkError("the device refused installation mode (password)");
+    }
+    block.set_units(settings_.units);
+    block.set_measuring_mode(settings_.measuring_mode);
+    const ConfigureReply stored =
+        parse_configure_reply(co_await transact(configure_request(block), n));
+    if (!stored.accepted || !(stored.stored == block)) {
+      throw LinkError("the device refused the configuration (units " + to_string(settings_.units) +
+                      ")");
+    }
+  }
+  // Scans may follow the reply in the same read: from here on they have the shape asked for.
+  accepting_scans_ = true;
+  last_scan_ = Clock::now();
+  if (parse_mode_switch_reply(co_await transact(switch_mode_request(OperatingMode::ContinuousAll),
+                                                n)) != ModeSwitchResult::Success) {
+    throw LinkError("the device refused continuous output");
+  }
+}
+
+awaitable<std::string> Lms2xxDriver::watch_stream() {
+  for (;;) {
+    if (stopping_) co_return "stopped";
+    if (link_lost_) co_return "the link to " + settings_.device + " was lost";
+    if (device_reset_seen_) co_return "the device restarted";
+    const auto silent_until = last_scan_ + settings_.scan_timeout;
+    if (Clock::now() >= silent_until) {
+      ++counters_.stream_timeouts;
+      co_return "no scan for " + std::to_string(settings_.scan_timeout.count()) + " ms";
+    }
+    watch_timer_.expires_at(silent_until);
+    boost::system::error_code ec;
+    co_await watch_timer_.async_wait(asio::redirect_error(use_awaitable, ec));
+  }
+}
+
+}  // namespace tofcomp::hal::lms2xx

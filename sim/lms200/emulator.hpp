@@ -1,0 +1,88 @@
+// The emulated LMS 200 on a pseudo-terminal: the device model (sim/lms200/device.hpp) answering
+// a host over a real pty, scans drawn from the digital twin in real time or faster, the link's
+// rate honoured (bytes at a rate other than the host's are lost, as on a real line), and faults
+// injected at configured rates. Runs its own thread; `tofcomp emulate` serves one until stopped.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hal/lms2xx/commands.hpp"
+#include "sim/lms200/device.hpp"
+#include "sim/lms200/fault_injector.hpp"
+#include "sim/scenario.hpp"
+#include "sim/twin.hpp"
+
+namespace tofcomp::sim::lms200 {
+
+struct EmulatorSettings {
+  Scenario scenario;
+  DeviceIdentity identity;
+  // Twin seconds per wall-clock second; 0 runs as fast as the host reads (no pacing at the
+  // line rate, no scans skipped), for tests and replays.
+  double time_scale = 1.0;
+  FaultRates faults;
+  std::uint64_t fault_seed = 1;
+  // A stable path for hosts (a symlink to the current pty); empty: hosts use the pty's path.
+  std::filesystem::path link;
+  double restart_s = 0.1;  // wall-clock seconds from a reset to the power-on telegram
+};
+
+// A scan as the twin drew it and the device sent it (before any fault was applied to its bytes).
+struct SentScan {
+  std::uint64_t sequence = 0;  // counts every scan sent, from 0
+  double twin_time_s = 0.0;
+  const std::vector<RangeReading>* readings = nullptr;  // valid during the callback only
+  hal::lms2xx::Units units = hal::lms2xx::Units::Millimetre;
+  LinkFault fault = LinkFault::None;
+};
+
+struct EmulatorCounters {
+  std::uint64_t scans_sent = 0;
+  std::uint64_t scans_skipped = 0;  // scans the line rate could not carry
+  std::uint64_t telegrams_sent = 0;
+  std::uint64_t requests = 0;  // host telegrams with a good CRC
+  std::uint64_t naks_sent = 0;
+  std::uint64_t bytes_lost_to_rate_mismatch = 0;
+  InjectedFaults injected;
+  std::string failure;  // set when the emulator stopped on an error
+};
+
+class Emulator {
+ public:
+  using ScanObserver = std::function<void(const SentScan&)>;
+  using FaultObserver = std::function<void(LinkFault, std::chrono::steady_clock::time_point)>;
+
+  // Throws core::InvalidInput for a bad scenario or fault rates.
+  explicit Emulator(EmulatorSettings settings);
+  ~Emulator();
+  Emulator(const Emulator&) = delete;
+  Emulator& operator=(const Emulator&) = delete;
+
+  // Observers run on the emulator's thread; set them before start().
+  void on_scan_sent(ScanObserver observer);
+  void on_fault(FaultObserver observer);
+
+  // Opens the pty and starts serving. Throws core::Error when the pty cannot be opened.
+  void start();
+  void stop();
+
+  // Where a host opens the device: the link when configured, else the pty's own path.
+  std::string device_path() const;
+  EmulatorCounters counters() const;
+  // The case sensor on the twin's scanner, now (thread-safe): the simulated temperature backend.
+  double read_case_sensor();
+  // The twin's clock, seconds since the scenario began.
+  double twin_time_s() const;
+
+ private:
+  class Server;
+  std::unique_ptr<Server> server_;
+};
+
+}  // namespace tofcomp::sim::lms200

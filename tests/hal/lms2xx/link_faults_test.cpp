@@ -1,0 +1,90 @@
+// 100,000 telegrams with one fault in a hundred (garbage, dropped bytes, corrupted CRCs,
+// stalls, hang-ups and resets, in equal shares): the host driver accepts no corrupted scan,
+// counts every fault it can see, and is streaming again within 1 s of each hang-up or reset.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "tests/hal/lms2xx/link_harness.hpp"
+
+namespace tofcomp::test {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+TEST(Lms2xxLinkUnderFaults, OneFaultPerHundredTelegrams) {
+  constexpr std::uint64_t kTelegrams = 100000;
+  emu::EmulatorSettings e;
+  e.scenario = default_scenario();
+  e.time_scale = 0.0;
+  e.faults = emu::FaultRates::evenly(0.01);
+  e.faults.stall_s = 0.3;
+  e.fault_seed = 2015;
+  e.link = std::filesystem::temp_directory_path() /
+           ("tofcomp-lms200-faults-" + std::to_string(::getpid()));
+  lms::DriverSettings d;
+  d.baud = 500000;
+  d.variant = {180, 100};  // 181 values: shorter telegrams, more of them per second
+  d.ack_timeout = 100ms;
+  d.scan_timeout = 200ms;  // shorter than a stall, so each stall is noticed
+  LinkHarness link(e, d);
+  link.start();
+  const auto limit = Clock::now() + 600s;
+  while (link.emulator_counters().telegrams_sent < kTelegrams && Clock::now() < limit) {
+    std::this_thread::sleep_for(100ms);
+  }
+  std::this_thread::sleep_for(1500ms);  // the last fault's recovery
+  link.stop();
+
+  const auto injected = link.emulator_counters().injected;
+  const auto& host = link.driver_counters();
+  ASSERT_GE(link.emulator_counters().telegrams_sent, kTelegrams);
+  // About one in a hundred telegrams was faulted.
+  EXPECT_GT(injected.total(), 800u);
+  EXPECT_LT(injected.total(), 1200u);
+
+  // No corrupted scan accepted: every delivered scan is one the device sent, in order.
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < link.received().size(); ++i) {
+    while (next < link.sent().size() && link.sent()[next].codes != link.received()[i].codes) {
+      ++next;
+    }
+    ASSERT_LT(next, link.sent().size()) << "delivered scan " << i << " was never sent";
+    ASSERT_EQ(link.sent()[next].fault == emu::LinkFault::DroppedByte ||
+                  link.sent()[next].fault == emu::LinkFault::CorruptedCrc,
+              false)
+        << "delivered scan " << i << " was damaged on the line";
+    ++next;
+  }
+
+  // Every fault on a telegram the host was listening for is counted: byte faults by the
+  // decoder, stalls as stream timeouts, hang-ups as link losses, resets as device resets.
+  std::printf("injected: garbage %lu dropped %lu crc %lu stalls %lu hang-ups %lu resets %lu\n",
+              injected.garbage, injected.dropped_bytes, injected.corrupted_crcs, injected.stalls,
+              injected.hang_ups, injected.resets);
+  std::printf(
+      "host: faults %lu (runs %lu crc %lu len %lu trunc %lu) stream timeouts %lu link "
+      "losses %lu device resets %lu bring-ups %lu scans %lu of %zu sent\n",
+      host.decoder.faults(), host.decoder.garbage_runs, host.decoder.crc_errors,
+      host.decoder.length_errors, host.decoder.truncated, host.stream_timeouts, host.link_losses,
+      host.device_resets, host.bring_ups, host.scans, link.sent().size());
+  EXPECT_GE(host.decoder.faults(), injected.byte_faults());
+  EXPECT_GE(host.stream_timeouts + host.device_resets, injected.stalls);
+  EXPECT_GE(host.link_losses, injected.hang_ups);
+  EXPECT_GE(host.device_resets, injected.resets);
+
+  // Streaming again within 1 s of each hang-up and reset.
+  for (const auto& [fault, when] : link.faults()) {
+    if (fault != emu::LinkFault::HangUp && fault != emu::LinkFault::Reset) continue;
+    const auto after = std::find_if(link.received().begin(), link.received().end(),
+                                    [&](const ReceivedRecord& r) { return r.when > when; });
+    ASSERT_NE(after, link.received().end()) << "no scan after a " << emu::to_string(fault);
+    EXPECT_LT(after->when - when, 1s)
+        << "streaming resumed " << std::chrono::duration<double>(after->when - when).count()
+        << " s after a " << emu::to_string(fault);
+  }
+}
+
+}  // namespace
+}  // namespace tofcomp::test

@@ -1,0 +1,134 @@
+// A host driver and an emulated LMS 200 on a real pty, with every scan the twin drew recorded on
+// the device side and every scan delivered recorded on the host side, for the integration tests.
+#pragma once
+
+#include <boost/asio.hpp>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "hal/lms2xx/host_driver.hpp"
+#include "sim/lms200/emulator.hpp"
+#include "sim/scenario_yaml.hpp"
+
+namespace tofcomp::test {
+
+namespace lms = tofcomp::hal::lms2xx;
+namespace emu = tofcomp::sim::lms200;
+
+// The codes the listing says the device sends for what the twin measured: the range in the
+// output units, or the "beyond maximum" code (max - 8) when there was no echo in range.
+inline std::vector<std::uint16_t> expected_codes(const std::vector<sim::RangeReading>& readings,
+                                                 lms::Units units) {
+  const double unit = units == lms::Units::Millimetre ? 1.0 : 10.0;
+  const std::uint16_t beyond = 0x1FFF - 8;  // 13-bit distance in the 8 m mode
+  std::vector<std::uint16_t> codes;
+  for (const auto& r : readings) {
+    const double code = r.range_mm / unit;
+    const bool in_range = r.status == sim::ReadingStatus::Valid && code >= 0 && code <= 8182;
+    codes.push_back(in_range ? static_cast<std::uint16_t>(code) : beyond);
+  }
+  return codes;
+}
+
+struct SentRecord {
+  std::vector<std::uint16_t> codes;
+  emu::LinkFault fault;
+  std::chrono::steady_clock::time_point when;
+};
+
+struct ReceivedRecord {
+  std::vector<std::uint16_t> codes;
+  std::chrono::steady_clock::time_point when;
+};
+
+class LinkHarness {
+ public:
+  LinkHarness(emu::EmulatorSettings emulator_settings, lms::DriverSettings driver_settings)
+      : emulator_(std::move(emulator_settings)) {
+    emulator_.on_scan_sent([this](const emu::SentScan& s) {
+      std::lock_guard lock(mutex_);
+      sent_.push_back(
+          {expected_codes(*s.readings, s.units), s.fault, std::chrono::steady_clock::now()});
+    });
+    emulator_.on_fault([this](emu::LinkFault f, std::chrono::steady_clock::time_point t) {
+      std::lock_guard lock(mutex_);
+      faults_.emplace_back(f, t);
+    });
+    emulator_.start();
+    driver_settings.device = emulator_.device_path();
+    driver_ = std::make_unique<lms::Lms2xxDriver>(
+        io_, driver_settings,
+        [this](const lms::HostScan& scan) {
+          std::lock_guard lock(mutex_);
+          received_.push_back({scan.scan.distance_codes, scan.received});
+          cv_.notify_all();
+        },
+        [this](lms::LinkState state, const std::string& why) {
+          std::lock_guard lock(mutex_);
+          if (std::getenv("TOFCOMP_TEST_VERBOSE")) {
+            std::fprintf(stderr, "link: %s: %s\n", lms::to_string(state).c_str(), why.c_str());
+          }
+          states_.push_back(lms::to_string(state) + ": " + why);
+        });
+  }
+
+  ~LinkHarness() { stop(); }
+
+  void start() {
+    driver_->start();
+    thread_ = std::thread([this] { io_.run(); });
+  }
+
+  // Waits until `count` scans have arrived or `limit` has passed; true when they arrived.
+  bool wait_for_scans(std::size_t count, std::chrono::seconds limit) {
+    std::unique_lock lock(mutex_);
+    return cv_.wait_for(lock, limit, [&] { return received_.size() >= count; });
+  }
+
+  void stop() {
+    if (thread_.joinable()) {
+      boost::asio::post(io_, [this] { driver_->stop(); });
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      io_.stop();
+      thread_.join();
+    }
+    emulator_.stop();
+  }
+
+  // Read after stop().
+  const std::vector<SentRecord>& sent() const { return sent_; }
+  const std::vector<ReceivedRecord>& received() const { return received_; }
+  const std::vector<std::pair<emu::LinkFault, std::chrono::steady_clock::time_point>>& faults()
+      const {
+    return faults_;
+  }
+  const std::vector<std::string>& states() const { return states_; }
+  const lms::DriverCounters& driver_counters() const { return driver_->counters(); }
+  emu::EmulatorCounters emulator_counters() const { return emulator_.counters(); }
+
+ private:
+  emu::Emulator emulator_;
+  boost::asio::io_context io_;
+  std::unique_ptr<lms::Lms2xxDriver> driver_;
+  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<SentRecord> sent_;
+  std::vector<ReceivedRecord> received_;
+  std::vector<std::string> states_;
+  std::vector<std::pair<emu::LinkFault, std::chrono::steady_clock::time_point>> faults_;
+};
+
+inline sim::Scenario default_scenario() {
+  return sim::load_scenario_file(std::string(TOFCOMP_SOURCE_ROOT) +
+                                 "/config/scenarios/default.yaml");
+}
+
+}  // namespace tofcomp::test

@@ -1,0 +1,131 @@
+// The host driver brings up the emulated LMS 200 over a real pty and streams; every value it
+// delivers is checked against what the twin measured.
+#include <gtest/gtest.h>
+
+#include "tests/hal/lms2xx/link_harness.hpp"
+
+namespace tofcomp::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+emu::EmulatorSettings fast_emulator() {
+  emu::EmulatorSettings s;
+  s.scenario = default_scenario();
+  s.time_scale = 0.0;  // as fast as the host reads
+  return s;
+}
+
+lms::DriverSettings driver_at(unsigned baud) {
+  lms::DriverSettings d;
+  d.baud = baud;
+  d.ack_timeout = 100ms;
+  return d;
+}
+
+// Every delivered scan equals, value for value, one the device sent, in the order sent; returns
+// how many sent scans were matched.
+std::size_t check_delivered_against_sent(const LinkHarness& link) {
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < link.received().size(); ++i) {
+    const auto& got = link.received()[i].codes;
+    while (next < link.sent().size() && link.sent()[next].codes != got) ++next;
+    if (next == link.sent().size()) {
+      ADD_FAILURE() << "delivered scan " << i << " matches no scan the device sent";
+      return 0;
+    }
+    ++next;
+  }
+  return next;
+}
+
+class StreamingAtEachRate : public ::testing::TestWithParam<unsigned> {};
+
+TEST_P(StreamingAtEachRate, TenThousandScansEqualTheTwinsReadings) {
+  constexpr std::size_t kScans = 10000;
+  LinkHarness link(fast_emulator(), driver_at(GetParam()));
+  link.start();
+  ASSERT_TRUE(link.wait_for_scans(kScans, 300s)) << "fewer than " << kScans << " scans arrived";
+  link.stop();
+  ASSERT_GE(link.received().size(), kScans);
+  ASSERT_EQ(link.received().front().codes.size(), 361u);
+  // No fault was injected: every scan the device sent is delivered, in order, unchanged.
+  const std::size_t n = link.received().size();
+  ASSERT_GE(link.sent().size(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_EQ(link.received()[i].codes, link.sent()[i].codes) << "scan " << i;
+  }
+  const auto& c = link.driver_counters();
+  EXPECT_EQ(c.decoder.crc_errors, 0u);
+  EXPECT_EQ(c.rejected_scans, 0u);
+  EXPECT_EQ(c.bring_ups, 1u);
+  EXPECT_EQ(link.emulator_counters().bytes_lost_to_rate_mismatch, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Rates, StreamingAtEachRate,
+                         ::testing::Values(9600u, 19200u, 38400u, 500000u));
+
+TEST(Lms2xxLink, CentimetresAndTheQuarterDegreeVariant) {
+  lms::DriverSettings d = driver_at(500000);
+  d.units = lms::Units::Centimetre;
+  d.variant = {100, 25};
+  LinkHarness link(fast_emulator(), d);
+  link.start();
+  ASSERT_TRUE(link.wait_for_scans(500, 60s));
+  link.stop();
+  EXPECT_EQ(link.received().front().codes.size(), 401u);
+  // The wall 3 m away: about 300 cm in the centre beam.
+  const auto centre = link.received().front().codes[200];
+  EXPECT_NEAR(centre, 300, 2);
+  EXPECT_EQ(check_delivered_against_sent(link) >= link.received().size(), true);
+}
+
+TEST(Lms2xxLink, FindsTheDeviceAlreadyAtAnotherRate) {
+  emu::EmulatorSettings e = fast_emulator();
+  e.link =
+      std::filesystem::temp_directory_path() / ("tofcomp-lms200-" + std::to_string(::getpid()));
+  emu::Emulator device(e);
+  device.start();
+  const auto run_driver = [&](unsigned baud) {
+    boost::asio::io_context io;
+    lms::DriverSettings d = driver_at(baud);
+    d.device = device.device_path();
+    std::size_t scans = 0;
+    lms::Lms2xxDriver driver(io, d, [&](const lms::HostScan&) {
+      if (++scans == 50) io.stop();
+    });
+    driver.start();
+    io.run_for(30s);
+    return std::make_pair(scans, driver.counters());
+  };
+  const auto [first_scans, first] = run_driver(500000);  // device at 9600 after power-on
+  EXPECT_EQ(first_scans, 50u);
+  EXPECT_EQ(first.rate_searches, 0u);
+  const auto [second_scans, second] = run_driver(500000);  // a new host; device at 500 kBd
+  EXPECT_EQ(second_scans, 50u);
+  EXPECT_EQ(second.rate_searches, 1u);
+  EXPECT_EQ(second.device_resets, 0u);
+  device.stop();
+}
+
+TEST(Lms2xxLink, ANonexistentPortBacksOffAndSaysWhy) {
+  boost::asio::io_context io;
+  lms::DriverSettings d = driver_at(500000);
+  d.device = "/dev/tofcomp-no-such-port";
+  std::vector<std::string> reasons;
+  lms::Lms2xxDriver driver(
+      io, d, [](const lms::HostScan&) {},
+      [&](lms::LinkState s, const std::string& why) {
+        if (s == lms::LinkState::Backoff) reasons.push_back(why);
+      });
+  driver.start();
+  io.run_for(300ms);
+  driver.stop();
+  io.run_for(50ms);
+  ASSERT_GE(reasons.size(), 2u);  // 50 ms, then 100 ms: at least two attempts in 300 ms
+  EXPECT_NE(reasons.front().find("/dev/tofcomp-no-such-port"), std::string::npos)
+      << reasons.front();
+}
+
+}  // namespace
+}  // namespace tofcomp::test
