@@ -92,17 +92,17 @@ TEST(Lms2xxLink, FindsTheDeviceAlreadyAtAnotherRate) {
     d.device = device.device_path();
     std::size_t scans = 0;
     lms::Lms2xxDriver driver(io, d, [&](const lms::HostScan&) {
-      if (++scans == 50) io.stop();
+      if (++scans >= 50) io.stop();  // one read may carry several more
     });
     driver.start();
     io.run_for(30s);
     return std::make_pair(scans, driver.counters());
   };
   const auto [first_scans, first] = run_driver(500000);  // device at 9600 after power-on
-  EXPECT_EQ(first_scans, 50u);
+  EXPECT_GE(first_scans, 50u);
   EXPECT_EQ(first.rate_searches, 0u);
   const auto [second_scans, second] = run_driver(500000);  // a new host; device at 500 kBd
-  EXPECT_EQ(second_scans, 50u);
+  EXPECT_GE(second_scans, 50u);
   EXPECT_EQ(second.rate_searches, 1u);
   EXPECT_EQ(second.device_resets, 0u);
   device.stop();
