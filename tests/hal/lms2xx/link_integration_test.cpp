@@ -108,6 +108,27 @@ TEST(Lms2xxLink, FindsTheDeviceAlreadyAtAnotherRate) {
   device.stop();
 }
 
+TEST(Lms2xxLink, TheLineRateLimitsContinuousOutputInRealTime) {
+  // At 38400 Bd a 361-value scan telegram (732 bytes, 7,320 bits with start and stop bits)
+  // takes 0.19 s on the line: about 5 scans/s get through
+  // (shared/docs/lms2xx-protocol.md, "Link").
+  emu::EmulatorSettings e = fast_emulator();
+  e.time_scale = 1.0;
+  LinkHarness link(e, driver_at(38400));
+  link.start();
+  ASSERT_TRUE(link.wait_for_scans(1, 30s));
+  std::this_thread::sleep_for(3s);
+  link.stop();
+  const auto& r = link.received();
+  const double seconds = std::chrono::duration<double>(r.back().when - r.front().when).count();
+  const double rate = static_cast<double>(r.size() - 1) / seconds;
+  EXPECT_GT(rate, 4.0);
+  EXPECT_LT(rate, 5.6);
+  // 0.5° interlaces over two mirror turns: 37.5 complete scans/s, about 32 of them skipped.
+  EXPECT_GT(link.emulator_counters().scans_skipped, 80u);
+  EXPECT_EQ(check_delivered_against_sent(link), link.received().size());
+}
+
 TEST(Lms2xxLink, ANonexistentPortBacksOffAndSaysWhy) {
   boost::asio::io_context io;
   lms::DriverSettings d = driver_at(500000);
