@@ -32,5 +32,9 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
 void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_emulate(CLI::App& app, const CommonOptions& common, CommandRunner& run);
+void register_scan(CLI::App& app, const CommonOptions& common, CommandRunner& run);
+void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& run);
+void register_replay(CLI::App& app, const CommonOptions& common, CommandRunner& run);
+void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 
 }  // namespace tofcomp::cli

@@ -1,7 +1,7 @@
 // tofcomp: the command line over measured data — simulate, thermal-fit, train, select, test,
-// evaluate, diagnose — and the emulated LMS 200 (emulate). Results go to stdout (text, or JSON
-// with --json); progress and errors to stderr.
-// Exit status: 0 success, 1 the work failed (the message says why), 2 bad command line.
+// evaluate, diagnose — and the LMS 200 link: an emulated device (emulate), a host (scan). Results
+// go to stdout (text, or JSON with --json); progress and errors to stderr. Exit status: 0 success,
+// 1 the work failed (the message says why), 2 bad command line.
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
   register_evaluate(app, common, run);
   register_diagnose(app, common, run);
   register_emulate(app, common, run);
+  register_scan(app, common, run);
+  register_shm_dump(app, common, run);
+  register_replay(app, common, run);
+  register_query(app, common, run);
 
   try {
     app.parse(argc, argv);

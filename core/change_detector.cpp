@@ -36,7 +36,11 @@ bool ChangeDetector::update(double residual, const MixtureParameters& mixture) {
       best = i;
     }
   }
-  const double z = (residual - mixture.mean[best]) / std::sqrt(mixture.variance[best]);
+  return update_standardized((residual - mixture.mean[best]) / std::sqrt(mixture.variance[best]));
+}
+
+bool ChangeDetector::update_standardized(double z) {
+  require_finite(z, "change detector residual");
   upper_ = std::max(0.0, upper_ + z - options_.drift);
   lower_ = std::max(0.0, lower_ - z - options_.drift);
   if (upper_ > options_.threshold || lower_ > options_.threshold) {

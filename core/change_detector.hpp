@@ -25,6 +25,9 @@ class ChangeDetector {
   // Feeds one residual e = y − H θ̂ − d̂ (the mixture's modes still in it). Returns true on an
   // alarm, after which the statistics restart from zero. Throws InvalidInput on a non-finite e.
   bool update(double residual, const MixtureParameters& mixture);
+  // The same, for a caller that has already standardized the residual within its most probable
+  // mode: z = (e − μ_i) / σ_i. Throws InvalidInput on a non-finite z.
+  bool update_standardized(double z);
   void reset();
 
   double upper() const { return upper_; }

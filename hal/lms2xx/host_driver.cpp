@@ -170,6 +170,7 @@ awaitable<void> Lms2xxDriver::supervise() {
         port_usable = true;
       }
       set_state(LinkState::Configuring, "bringing the device up");
+      device_answered_ = false;
       co_await bring_up();
       backoff = settings_.backoff_initial;
       ++counters_.bring_ups;
@@ -185,6 +186,9 @@ awaitable<void> Lms2xxDriver::supervise() {
     if (stopping_) break;
     close_port();
     port_usable = false;
+    // Backing off is for a device that does not answer: one that answered and then failed
+    // (a damaged reply, a reset in the middle) is tried again after the shortest wait.
+    if (device_answered_) backoff = settings_.backoff_initial;
     set_state(LinkState::Backoff, why);
     co_await sleep(backoff);
     backoff = std::min(backoff * 2, settings_.backoff_max);
@@ -228,6 +232,7 @@ awaitable<void> Lms2xxDriver::idle_flusher() {
 }
 
 void Lms2xxDriver::dispatch(const DecoderEvent& event, Clock::time_point when) {
+  device_answered_ = true;
   if (event.kind != DecoderEvent::Kind::Telegram) {
     if (pending_) {
       (event.kind == DecoderEvent::Kind::Ack ? pending_->acked : pending_->naked) = true;

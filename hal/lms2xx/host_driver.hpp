@@ -101,6 +101,7 @@ class Lms2xxDriver {
   bool stopping_ = false;
   bool link_lost_ = false;
   bool device_reset_seen_ = false;
+  bool device_answered_ = false;  // a telegram, ACK or NAK since the last bring-up began
   bool accepting_scans_ = false;  // variant and units confirmed in this bring-up
   std::uint64_t reader_generation_ = 0;
   std::chrono::steady_clock::time_point last_scan_;

@@ -1,5 +1,6 @@
 #include "sim/lms200/emulator.hpp"
 
+#include <atomic>
 #include <boost/asio.hpp>
 #include <deque>
 #include <mutex>
@@ -85,6 +86,8 @@ class Emulator::Server {
     return twin_.time_s();
   }
 
+  bool power_on() const { return powered_; }
+
   ScanObserver scan_observer;
   FaultObserver fault_observer;
 
@@ -102,7 +105,7 @@ class Emulator::Server {
   std::uint64_t generation_ = 0;  // bumped on each hang-up: the old reader ends
   std::deque<DeviceOutput> queue_;
   bool writing_ = false;
-  bool powered_ = false;
+  std::atomic<bool> powered_ = false;  // read by power_on() from other threads
   asio::steady_timer wake_writer_{io_, Clock::time_point::max()};
   asio::steady_timer wake_streamer_{io_, Clock::time_point::max()};
   Clock::time_point stalled_until_{};
@@ -367,6 +370,9 @@ double Emulator::read_case_sensor() {
 }
 double Emulator::twin_time_s() const {
   return server_->twin_time_s();
+}
+bool Emulator::power_on() const {
+  return server_->power_on();
 }
 
 }  // namespace tofcomp::sim::lms200

@@ -79,6 +79,8 @@ class Emulator {
   double read_case_sensor();
   // The twin's clock, seconds since the scenario began.
   double twin_time_s() const;
+  // Whether the twin's scanner is powered now (thread-safe): the simulated power sense.
+  bool power_on() const;
 
  private:
   class Server;

@@ -43,6 +43,11 @@ struct SentRecord {
   std::chrono::steady_clock::time_point when;
 };
 
+struct StateRecord {
+  lms::LinkState state;
+  std::chrono::steady_clock::time_point when;
+};
+
 struct ReceivedRecord {
   std::vector<std::uint16_t> codes;
   std::chrono::steady_clock::time_point when;
@@ -75,7 +80,7 @@ class LinkHarness {
           if (std::getenv("TOFCOMP_TEST_VERBOSE")) {
             std::fprintf(stderr, "link: %s: %s\n", lms::to_string(state).c_str(), why.c_str());
           }
-          states_.push_back(lms::to_string(state) + ": " + why);
+          states_.push_back({state, std::chrono::steady_clock::now()});
         });
   }
 
@@ -109,7 +114,38 @@ class LinkHarness {
       const {
     return faults_;
   }
-  const std::vector<std::string>& states() const { return states_; }
+  const std::vector<StateRecord>& states() const { return states_; }
+  // While running: when the last fault was injected and the last scan delivered.
+  std::chrono::steady_clock::time_point last_fault_time() {
+    std::lock_guard lock(mutex_);
+    return faults_.empty() ? std::chrono::steady_clock::time_point{} : faults_.back().second;
+  }
+  std::chrono::steady_clock::time_point last_scan_time() {
+    std::lock_guard lock(mutex_);
+    return received_.empty() ? std::chrono::steady_clock::time_point{} : received_.back().when;
+  }
+
+  // Whether the host had the port open at `when`, by the driver's reported states: the last
+  // report before it is Connecting, Configuring or Streaming, and the port had been opening for
+  // `opening` at least (the driver reports Connecting just before it opens the port; the two
+  // sides read their clocks on different threads). A close reported just after `when` does not
+  // count against it: that is the host reacting to what happened at `when`.
+  bool host_listening_at(std::chrono::steady_clock::time_point when,
+                         std::chrono::steady_clock::duration opening) const {
+    const auto is_open = [](lms::LinkState state) {
+      return state == lms::LinkState::Connecting || state == lms::LinkState::Configuring ||
+             state == lms::LinkState::Streaming;
+    };
+    bool listening = false;
+    std::chrono::steady_clock::time_point opened{};
+    for (const auto& s : states_) {
+      if (s.when > when) break;
+      if (is_open(s.state) && !listening) opened = s.when;
+      listening = is_open(s.state);
+    }
+    return listening && when - opened >= opening;
+  }
+
   const lms::DriverCounters& driver_counters() const { return driver_->counters(); }
   emu::EmulatorCounters emulator_counters() const { return emulator_.counters(); }
 
@@ -122,7 +158,7 @@ class LinkHarness {
   std::condition_variable cv_;
   std::vector<SentRecord> sent_;
   std::vector<ReceivedRecord> received_;
-  std::vector<std::string> states_;
+  std::vector<StateRecord> states_;
   std::vector<std::pair<emu::LinkFault, std::chrono::steady_clock::time_point>> faults_;
 };
 

@@ -1,0 +1,253 @@
+// tofcomp query: asks a running tofcompd over its Unix socket (docs/protocol.md) for the latest
+// scan, its status or statistics, a reload or a recalibration, or a number of scans of a
+// subscription; prints them as text (a table of beams) or, with --json, as the daemon sent them.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "cli/command.hpp"
+#include "core/error.hpp"
+#include "ipc/socket/client.hpp"
+#include "ipc/socket/protocol_error.hpp"
+#include "ipc/socket/subscription.hpp"
+
+namespace tofcomp::cli {
+
+namespace {
+
+namespace ipcs = tofcomp::ipc::socket;
+using nlohmann::json;
+
+struct QueryOptions {
+  std::string socket = ipcs::kDefaultSocketPath;
+  double timeout_s = 5.0;
+  std::string beams;  // FIRST:LAST, or one index
+  std::string args;   // recalibrate: a JSON object
+  int count = 10;     // subscribe: scans to print
+  unsigned every = 1;
+};
+
+std::optional<ipcs::BeamRange> parse_beams(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  const auto bad = [&] {
+    return core::InvalidInput("--beams '" + text +
+                              "': expected FIRST:LAST (beam indices, e.g. 0:360) or one index");
+  };
+  const auto index = [&](const std::string& part) {
+    if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos ||
+        part.size() > 5) {
+      throw bad();
+    }
+    const unsigned long value = std::stoul(part);
+    if (value > ipcs::kMaxBeamIndex) throw bad();
+    return static_cast<std::uint32_t>(value);
+  };
+  const auto colon = text.find(':');
+  const std::uint32_t first = index(text.substr(0, colon));
+  const std::uint32_t last = colon == std::string::npos ? first : index(text.substr(colon + 1));
+  if (first > last) throw bad();
+  return ipcs::BeamRange{first, last};
+}
+
+std::chrono::milliseconds timeout_of(const QueryOptions& o) {
+  return std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(o.timeout_s * 1000.0)));
+}
+
+// A number of the reply, or "-" for null (a value that does not exist).
+std::string number(const json& value, const char* format) {
+  if (!value.is_number()) return "-";
+  char text[48];
+  std::snprintf(text, sizeof text, format, value.get<double>());
+  return text;
+}
+
+std::string utc_time(std::int64_t ns) {
+  const std::time_t seconds = static_cast<std::time_t>(ns / 1000000000);
+  std::tm tm{};
+  gmtime_r(&seconds, &tm);
+  char text[64];
+  std::snprintf(text, sizeof text, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", tm.tm_year + 1900,
+                tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec,
+                static_cast<int>((ns / 1000000) % 1000));
+  return text;
+}
+
+// The scan as a header line and a table of its beams.
+std::string scan_text(const json& scan) {
+  const std::size_t shown = scan.at("beams").size();
+  const std::size_t first = scan.at("first_beam").get<std::size_t>();
+  std::string text =
+      "scan " + scan.at("sequence").dump() + " (device " + scan.at("device_sequence").dump() +
+      ") at " + utc_time(scan.at("timestamp_ns").get<std::int64_t>()) + "; junction " +
+      number(scan.at("junction_c"), "%.2f") + " ± " + number(scan.at("junction_std_c"), "%.2f") +
+      " °C, case " + number(scan.at("case_c"), "%.2f") + " °C; calibration " +
+      scan.at("calibration_id").dump() + "; beams " +
+      (shown == 0 ? std::string("none")
+                  : std::to_string(first) + ".." + std::to_string(first + shown - 1)) +
+      " of " + scan.at("beam_count").dump() + "\n";
+  text += " beam   angle°    raw mm   comp. mm  window mm   std mm  mode  flags\n";
+  const double start =
+      scan.at("start_angle_deg").is_number() ? scan["start_angle_deg"].get<double>() : 0.0;
+  const double step =
+      scan.at("resolution_deg").is_number() ? scan["resolution_deg"].get<double>() : 0.0;
+  for (const json& beam : scan.at("beams")) {
+    const auto index = beam.at("index").get<std::size_t>();
+    std::string flags;
+    for (const json& name : beam.at("flag_names")) {
+      flags += (flags.empty() ? "" : ",") + name.get<std::string>();
+    }
+    const std::string mode = beam.at("mode_count").get<int>() > 0
+                                 ? std::to_string(beam.at("most_probable_mode").get<int>())
+                                 : "-";
+    char row[200];
+    std::snprintf(row, sizeof row, "%5zu %8.2f %9s %10s %10s %8s %5s  %s\n", index,
+                  start + step * static_cast<double>(index),
+                  number(beam.at("raw_mm"), "%.1f").c_str(),
+                  number(beam.at("compensated_mm"), "%.2f").c_str(),
+                  number(beam.at("window_mm"), "%.2f").c_str(),
+                  number(beam.at("window_std_mm"), "%.2f").c_str(), mode.c_str(),
+                  flags.empty() ? "-" : flags.c_str());
+    text += row;
+  }
+  return text;
+}
+
+// A JSON object as "key: value" lines, nested objects as dotted keys.
+void flatten(const json& value, const std::string& prefix, std::string& text) {
+  if (value.is_object() && !value.empty()) {
+    for (const auto& [key, member] : value.items()) {
+      flatten(member, prefix.empty() ? key : prefix + "." + key, text);
+    }
+    return;
+  }
+  const std::string shown = value.is_string() ? value.get<std::string>() : value.dump();
+  text += (prefix.empty() ? "" : prefix + ": ") + shown + "\n";
+}
+
+// One request; a refusal becomes an error naming the daemon's code.
+json call(ipcs::SocketClient& client, json request, std::chrono::milliseconds timeout) {
+  try {
+    return client.call(std::move(request), timeout);
+  } catch (const ipcs::ProtocolError& e) {
+    throw core::Error("tofcompd at " + client.path() + " answered " +
+                      std::string(ipcs::to_string(e.code())) + ": " + e.what());
+  }
+}
+
+// The request for op, its options checked before anything is sent.
+json request_for(const QueryOptions& o, const std::string& op) {
+  json request{{"op", op}};
+  if (op == "latest") {
+    if (const auto beams = parse_beams(o.beams)) request["beams"] = {beams->first, beams->last};
+  }
+  if (op == "recalibrate" && !o.args.empty()) {
+    try {
+      request["args"] = json::parse(o.args);
+    } catch (const json::exception& e) {
+      throw core::InvalidInput("--args: not JSON: " + std::string(e.what()));
+    }
+    if (!request["args"].is_object()) throw core::InvalidInput("--args: must be a JSON object");
+  }
+  return request;
+}
+
+CommandResult run_simple(const QueryOptions& o, const std::string& op) {
+  const json request = request_for(o, op);
+  const auto timeout = timeout_of(o);
+  ipcs::SocketClient client(o.socket, timeout);
+  const json reply = call(client, request, timeout);
+  CommandResult result;
+  if (op == "latest") {
+    result.json = reply.at("scan");
+    result.text = scan_text(result.json);
+  } else if (op == "status" || op == "stats") {
+    result.json = reply;
+    result.json.erase("id");
+    result.json.erase("ok");
+    flatten(result.json, "", result.text);
+  } else {
+    result.json = {{"message", reply.value("message", "")}};
+    result.text = reply.value("message", "") + "\n";
+  }
+  return result;
+}
+
+CommandResult run_subscribe(const QueryOptions& o, const CommonOptions& common) {
+  const auto beams = parse_beams(o.beams);
+  const auto timeout = timeout_of(o);
+  ipcs::SocketClient client(o.socket, timeout);
+  std::optional<ipcs::ScanSubscription> subscription;
+  try {
+    subscription.emplace(client, beams, o.every, timeout);
+  } catch (const ipcs::ProtocolError& e) {
+    throw core::Error("tofcompd at " + o.socket + " answered " +
+                      std::string(ipcs::to_string(e.code())) + ": " + e.what());
+  }
+  CommandResult result;
+  result.json["scans"] = json::array();
+  for (int i = 0; i < o.count; ++i) {
+    auto scan = subscription->next(timeout);
+    if (!scan) {
+      throw core::Error("no scan from tofcompd at " + o.socket + " within " +
+                        std::to_string(o.timeout_s) + " s after " + std::to_string(i) + " of " +
+                        std::to_string(o.count));
+    }
+    if (common.json) {
+      result.json["scans"].push_back(std::move(*scan));
+    } else {
+      // Text is printed as each scan arrives.
+      std::fputs((scan_text(*scan) + "\n").c_str(), stdout);
+      std::fflush(stdout);
+    }
+  }
+  return result;
+}
+
+}  // namespace
+
+void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
+  auto* cmd =
+      app.add_subcommand("query",
+                         "Ask a running tofcompd over its socket: latest, status, stats, reload, "
+                         "recalibrate, subscribe");
+  auto o = std::make_shared<QueryOptions>();
+  cmd->add_option("--socket", o->socket, "tofcompd's socket")->capture_default_str();
+  cmd->add_option("--timeout", o->timeout_s, "Seconds to wait to connect and for each answer")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->require_subcommand(1);
+
+  auto* latest = cmd->add_subcommand("latest", "The latest compensated scan");
+  latest->add_option("--beams", o->beams, "Beams FIRST:LAST (indices), or one index");
+  latest->callback([&run, o] { run = [o] { return run_simple(*o, "latest"); }; });
+
+  for (const char* op : {"status", "stats", "reload"}) {
+    const std::string name = op;
+    auto* sub =
+        cmd->add_subcommand(name, name == "status"  ? "The daemon's state"
+                                  : name == "stats" ? "The daemon's counters and the socket's"
+                                                    : "Re-read the configuration and calibration");
+    sub->callback([&run, o, name] { run = [o, name] { return run_simple(*o, name); }; });
+  }
+
+  auto* recalibrate = cmd->add_subcommand("recalibrate", "Start a recalibration");
+  recalibrate->add_option("--args", o->args, "Arguments for the daemon, a JSON object");
+  recalibrate->callback([&run, o] { run = [o] { return run_simple(*o, "recalibrate"); }; });
+
+  auto* subscribe = cmd->add_subcommand("subscribe", "Print scans as the daemon publishes them");
+  subscribe->add_option("-n,--count", o->count, "Scans to print")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  subscribe->add_option("--every", o->every, "Only scans whose sequence is a multiple of this")
+      ->check(CLI::Range(1u, ipcs::kMaxEvery))
+      ->capture_default_str();
+  subscribe->add_option("--beams", o->beams, "Beams FIRST:LAST (indices), or one index");
+  subscribe->callback(
+      [&run, &common, o] { run = [&common, o] { return run_subscribe(*o, common); }; });
+}
+
+}  // namespace tofcomp::cli

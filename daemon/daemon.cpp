@@ -1,0 +1,264 @@
+#include "daemon/daemon.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <csignal>
+
+#include "core/error.hpp"
+#include "daemon/config/daemon_config_adapters.hpp"
+#include "daemon/pipeline_setup.hpp"
+#include "daemon/scan_conversion.hpp"
+#include "hal/sensors/sensor_config.hpp"
+#include "io/calibration_file.hpp"
+
+namespace tofcomp::daemon {
+
+namespace asio = boost::asio;
+using Clock = std::chrono::steady_clock;
+
+Daemon::Daemon(config::DaemonConfig config, std::filesystem::path config_file)
+    : config_(std::move(config)),
+      config_file_(std::move(config_file)),
+      start_(Clock::now()),
+      pipeline_(daemon::pipeline_settings(config_)) {
+  const bool missing =
+      !config_.calibration.file.empty() && !std::filesystem::exists(config_.calibration.file);
+  if (missing && config_.recalibration.trigger == config::RecalibrationTrigger::AtStartIfMissing) {
+    spdlog::warn("calibration {} missing: recalibrating at start",
+                 config_.calibration.file.string());
+    use_calibration(nullptr, "none");
+  } else {
+    use_calibration(read_configured_calibration(config_), config_.calibration.file.string());
+  }
+  start_parts();
+}
+
+Daemon::~Daemon() {
+  if (worker_.joinable()) worker_.join();
+  if (sensor_) sensor_->stop();
+  if (emulator_) emulator_->stop();
+}
+
+double Daemon::now_s(Clock::time_point t) const {
+  return std::chrono::duration<double>(t - start_).count();
+}
+
+// Swaps a calibration in (on the loop, between two scans: no scan is lost or mixed).
+void Daemon::use_calibration(std::shared_ptr<const io::Calibration> calibration,
+                             const std::string& source) {
+  if (!calibration) {
+    if (calibration_id_ != 0) pipeline_.clear_calibration();
+    calibration_source_ = "none";
+    spdlog::warn("no calibration configured: publishing raw ranges, flagged uncalibrated");
+    return;
+  }
+  pipeline_.set_calibration(std::move(calibration), calibration_id_ + 1);
+  ++calibration_id_;
+  ++counters_.calibrations_swapped;
+  calibration_source_ = source;
+  spdlog::info("calibration {} in use, from {}", calibration_id_, source);
+}
+
+void Daemon::start_parts() {
+  std::string device;
+  if (config_.emulator.enabled) {
+    emulator_ = std::make_unique<sim::lms200::Emulator>(config::emulator_settings(config_));
+    emulator_->start();
+    device = emulator_->device_path();
+    spdlog::info("emulated LMS 200 ({}) on {}", config_.emulator.scenario.string(), device);
+  }
+  driver_ = std::make_unique<hal::lms2xx::Lms2xxDriver>(
+      io_, config::driver_settings(config_.link, device),
+      [this](const hal::lms2xx::HostScan& s) { on_scan(s); },
+      [this](hal::lms2xx::LinkState state, const std::string& why) { on_link_state(state, why); });
+
+  sim::lms200::Emulator* emulator = emulator_.get();
+  auto sensor = hal::make_temperature_sensor(config_.case_sensor.sensor, [emulator] {
+    if (!emulator) throw core::Error("the simulated case sensor needs the emulator");
+    return emulator->read_case_sensor();
+  });
+  sensor_ = std::make_unique<SensorPoller>(
+      io_, std::move(sensor), config_.case_sensor.poll_interval,
+      [this](Clock::time_point when, const hal::TemperatureReading& r) { on_reading(when, r); });
+
+  if (config_.power.sense) {
+    power_sense_ = hal::make_power_sense(
+        io_, *config_.power.sense,
+        [this](const hal::GpioEdge& edge) { on_power(now_s(Clock::now()), edge.rising); },
+        [](const std::string& why) { spdlog::error("power sense: {}", why); });
+    on_power(now_s(Clock::now()), power_sense_->level());
+  }
+
+  const auto& shm = config_.outputs.shm;
+  ring_ = std::make_unique<ipc::ring::RingWriter>(shm.name, static_cast<std::uint32_t>(shm.slots),
+                                                  ipc::ring::kDefaultMaxBeams,
+                                                  ipc::ring::RingWriterOptions{shm.mode, false});
+  const auto& so = config_.outputs.socket;
+  if (so.path.has_parent_path()) {
+    std::error_code ignored;  // a failure shows when the server binds, naming the path
+    std::filesystem::create_directories(so.path.parent_path(), ignored);
+  }
+  socket::SocketServerSettings settings;
+  settings.path = so.path.string();
+  settings.permissions = so.mode;
+  settings.max_clients = static_cast<std::size_t>(so.max_clients);
+  settings.max_request_bytes = so.max_request_bytes;
+  settings.max_queued_bytes_per_client = so.max_queued_bytes_per_client;
+  server_ = std::make_unique<socket::SocketServer>(
+      io_, settings, *this, [](socket::SocketLogLevel level, const std::string& message) {
+        if (level == socket::SocketLogLevel::Warning) {
+          spdlog::warn("{}", message);
+        } else {
+          spdlog::info("{}", message);
+        }
+      });
+  server_->start();
+  if (config_.recording.enabled) {
+    recorder_ = std::make_unique<Recorder>(RecorderSettings{
+        config_.recording.directory, config_.recording.max_rows, config_.recording.max_minutes});
+  }
+  spdlog::info("publishing to shm {} and socket {}", shm.name, settings.path);
+}
+
+int Daemon::run() {
+  watch_signals();
+  if (const auto interval = notifier_.watchdog_interval()) {
+    watchdog_period_ = service::SystemdNotifier::ping_period(*interval);
+  }
+  sensor_->start();
+  driver_->start();
+  schedule_housekeeping();
+  set_status("waiting for the first scan");
+  if (calibration_id_ == 0 &&
+      config_.recalibration.trigger == config::RecalibrationTrigger::AtStartIfMissing &&
+      config_.recalibration.source == config::RecalibrationSource::Recording) {
+    start_recalibration(config_.recalibration.data);
+  }
+  io_.run();
+  notifier_.stopping();
+  driver_->stop();
+  sensor_->stop();
+  if (server_) server_->stop();
+  if (emulator_) emulator_->stop();
+  spdlog::info("stopped after {} scans", counters_.scans_published);
+  return 0;
+}
+
+void Daemon::stop() {
+  asio::post(io_, [this] { io_.stop(); });
+}
+
+void Daemon::watch_signals() {
+  signals_.add(SIGINT);
+  signals_.add(SIGTERM);
+  signals_.add(SIGHUP);
+  signals_.async_wait([this](const boost::system::error_code& ec, int signal) {
+    if (ec) return;
+    if (signal == SIGHUP) {
+      const socket::ReloadResult r = reload();
+      (r.ok ? spdlog::info("SIGHUP: {}", r.message) : spdlog::error("SIGHUP: {}", r.message));
+      watch_signals();
+      return;
+    }
+    spdlog::info("signal {}: stopping", signal);
+    io_.stop();
+  });
+}
+
+// Every 100 ms on the loop: the watchdog ping (so a stuck loop stops the pings), the emulated
+// scanner's power state, a finished recalibration.
+void Daemon::schedule_housekeeping() {
+  housekeeping_.expires_after(std::chrono::milliseconds(100));
+  housekeeping_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    const auto now = Clock::now();
+    if (watchdog_period_ && now - last_watchdog_ >= *watchdog_period_) {
+      notifier_.watchdog();
+      last_watchdog_ = now;
+    }
+    if (emulator_ && !power_sense_) {
+      const bool on = emulator_->power_on();
+      if (power_on_ != on) on_power(now_s(now), on);
+    }
+    finish_recalibration();
+    schedule_housekeeping();
+  });
+}
+
+void Daemon::on_power(double time_s, bool on) {
+  if (power_on_ == on) return;
+  power_on_ = on;
+  ++counters_.power_changes;
+  pipeline_.on_power(time_s, on);
+  if (recorder_) recorder_->power(time_s, on);
+  spdlog::info("scanner power {}", on ? "on" : "off");
+}
+
+void Daemon::on_reading(Clock::time_point when, const hal::TemperatureReading& r) {
+  if (!r.valid()) {
+    ++counters_.readings_invalid;
+    sensor_state_ = std::string(hal::to_string(r.validity)) + ": " + r.detail;
+    spdlog::warn("case sensor: {}", sensor_state_);
+    return;
+  }
+  ++counters_.readings_valid;
+  sensor_state_ = "valid";
+  const double t = now_s(when);
+  pipeline_.on_case_reading(t, r.celsius);
+  if (recorder_) recorder_->case_reading(t, r.celsius);
+}
+
+void Daemon::on_link_state(hal::lms2xx::LinkState state, const std::string& why) {
+  link_state_ = hal::lms2xx::to_string(state) + ": " + why;
+  if (state == hal::lms2xx::LinkState::Backoff) {
+    spdlog::warn("link: {}", link_state_);
+  } else {
+    spdlog::info("link: {}", link_state_);
+  }
+}
+
+void Daemon::on_scan(const hal::lms2xx::HostScan& host) {
+  ++counters_.scans_in;
+  const double t = now_s(host.received);
+  // A scan proves the scanner is powered, whatever the last sense said.
+  if (power_on_ == false) on_power(t, true);
+  realtime::RawScan raw = to_raw_scan(host, config_.link.variant, t);
+  ipc::CompensatedScan out;
+  try {
+    out = pipeline_.on_scan(raw);
+  } catch (const core::Error& e) {
+    ++counters_.scans_rejected;
+    spdlog::error("scan {} not published: {}", host.sequence, e.what());
+    return;
+  }
+  if (recorder_) {
+    try {
+      recorder_->scan(raw);
+    } catch (const core::Error& e) {
+      ++counters_.recording_errors;
+      spdlog::error("{}; recording stopped", e.what());
+      recorder_.reset();
+    }
+  }
+  ring_->publish(out);
+  server_->publish(out);
+  latest_ = std::move(out);
+  ++counters_.scans_published;
+  if (!ready_sent_) {
+    ready_sent_ = true;
+    notifier_.ready();
+    spdlog::info("first compensated scan published: ready");
+    set_status("publishing compensated scans");
+  }
+}
+
+void Daemon::set_status(const std::string& text) {
+  status_text_ = text;
+  notifier_.status(text);
+}
+
+const ipc::CompensatedScan* Daemon::latest_scan() {
+  return latest_ ? &*latest_ : nullptr;
+}
+
+}  // namespace tofcomp::daemon

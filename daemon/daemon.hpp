@@ -1,0 +1,123 @@
+// tofcompd: one Boost.Asio event loop that takes scans from the LMS 200 link and readings from
+// the case sensor, runs them through the compensation pipeline (realtime/), and publishes each
+// compensated scan to the shared-memory ring and the Unix socket. Around it: the emulated
+// LMS 200 of the embedded default, the recorder, the power-sense line, systemd's readiness and
+// watchdog, SIGHUP reloads, and recalibration, which trains in a worker thread and swaps the
+// new calibration in on the loop between two scans.
+#pragma once
+
+#include <boost/asio.hpp>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "daemon/config/daemon_config.hpp"
+#include "daemon/recorder.hpp"
+#include "daemon/sensor_poller.hpp"
+#include "daemon/service/systemd_notifier.hpp"
+#include "daemon/socket/request_handler.hpp"
+#include "daemon/socket/socket_server.hpp"
+#include "hal/gpio/power_control.hpp"
+#include "hal/lms2xx/host_driver.hpp"
+#include "io/calibration_file.hpp"
+#include "ipc/ring/ring_writer.hpp"
+#include "realtime/compensation_pipeline.hpp"
+#include "sim/lms200/emulator.hpp"
+
+namespace tofcomp::daemon {
+
+struct DaemonCounters {
+  std::uint64_t scans_in = 0;         // from the link
+  std::uint64_t scans_published = 0;  // to the ring and the socket
+  std::uint64_t scans_rejected = 0;   // scans the pipeline refused (logged)
+  std::uint64_t readings_valid = 0;
+  std::uint64_t readings_invalid = 0;  // implausible, stale, missing: logged, not used
+  std::uint64_t power_changes = 0;
+  std::uint64_t reloads = 0;
+  std::uint64_t reloads_refused = 0;
+  std::uint64_t calibrations_swapped = 0;
+  std::uint64_t recording_errors = 0;
+};
+
+class Daemon : public socket::SocketRequestHandler {
+ public:
+  // config_file: where reloads read from; empty: the configuration is the built-in default and
+  // a reload re-reads that. Throws core::Error (naming what) when a part cannot start: the
+  // calibration file, the ring, the socket, the emulator, the sensor backend.
+  Daemon(config::DaemonConfig config, std::filesystem::path config_file);
+  ~Daemon() override;
+
+  // Runs until SIGTERM or SIGINT (or stop()); returns the exit status.
+  int run();
+  // Thread-safe.
+  void stop();
+
+  // SocketRequestHandler, on the loop.
+  const ipc::CompensatedScan* latest_scan() override;
+  nlohmann::json status() override;
+  nlohmann::json stats() override;
+  socket::ReloadResult reload() override;
+  socket::RecalibrationResult recalibrate(const nlohmann::json& args) override;
+
+ private:
+  double now_s(std::chrono::steady_clock::time_point t) const;
+  void start_parts();
+  void on_scan(const hal::lms2xx::HostScan& scan);
+  void on_reading(std::chrono::steady_clock::time_point when, const hal::TemperatureReading& r);
+  void on_power(double time_s, bool on);
+  void on_link_state(hal::lms2xx::LinkState state, const std::string& why);
+  void watch_signals();
+  void schedule_housekeeping();
+  void use_calibration(std::shared_ptr<const io::Calibration> calibration,
+                       const std::string& source);
+  void finish_recalibration();
+  void set_status(const std::string& text);
+
+  boost::asio::io_context io_;
+  boost::asio::signal_set signals_{io_};
+  boost::asio::steady_timer housekeeping_{io_};
+  config::DaemonConfig config_;
+  std::filesystem::path config_file_;
+  std::chrono::steady_clock::time_point start_;
+  service::SystemdNotifier notifier_;
+  std::optional<std::chrono::steady_clock::duration> watchdog_period_;
+  std::chrono::steady_clock::time_point last_watchdog_{};
+
+  std::unique_ptr<sim::lms200::Emulator> emulator_;
+  std::unique_ptr<hal::lms2xx::Lms2xxDriver> driver_;
+  std::unique_ptr<SensorPoller> sensor_;
+  std::unique_ptr<hal::PowerSense> power_sense_;
+  std::unique_ptr<ipc::ring::RingWriter> ring_;
+  std::unique_ptr<socket::SocketServer> server_;
+  std::unique_ptr<Recorder> recorder_;
+  realtime::CompensationPipeline pipeline_;
+
+  std::optional<ipc::CompensatedScan> latest_;
+  std::optional<bool> power_on_;
+  std::string link_state_ = "starting";
+  std::string sensor_state_ = "no reading yet";
+  std::string last_reload_ = "none";
+  std::string recalibration_state_ = "idle";
+  std::string status_text_;
+  std::uint32_t calibration_id_ = 0;
+  std::string calibration_source_ = "none";
+  bool ready_sent_ = false;
+  DaemonCounters counters_;
+
+  // Recalibration: one worker at a time; its result is taken on the loop.
+  struct RecalibrationOutcome {
+    std::string error;  // empty on success
+    std::shared_ptr<const io::Calibration> calibration;
+    std::filesystem::path file;
+  };
+  void start_recalibration(std::filesystem::path data);
+  std::thread worker_;
+  bool worker_running_ = false;
+  std::mutex outcome_mutex_;
+  std::optional<RecalibrationOutcome> outcome_;  // set by the worker
+};
+
+}  // namespace tofcomp::daemon

@@ -1,0 +1,61 @@
+// tofcompd: the temperature and mode-hopping compensation service for an LMS 200.
+//   tofcompd [--config FILE] [--check-config] [--print-default-config]
+// Without --config it runs on the built-in default (config/tofcompd.yaml): an emulated LMS 200
+// and its simulated case sensor, with the bundled calibration. Exit status: 0 after a clean
+// stop (SIGTERM, SIGINT), 1 when it cannot start (the message says why), 2 for a bad command
+// line.
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "daemon/config/daemon_config_yaml.hpp"
+#include "daemon/config/embedded_default_config.hpp"
+#include "daemon/daemon.hpp"
+#include "daemon/service/logging.hpp"
+
+int main(int argc, char** argv) {
+  using namespace tofcomp::daemon;
+  CLI::App app("tofcompd: temperature and mode-hopping compensation of an LMS 200 (a service)");
+  std::string config_file;
+  bool check_only = false;
+  bool print_default = false;
+  app.add_option("-c,--config", config_file,
+                 "Configuration file (docs/configuration.md); default: the built-in one, "
+                 "an emulated LMS 200")
+      ->check(CLI::ExistingFile);
+  app.add_flag("--check-config", check_only, "Read and check the configuration, then exit");
+  app.add_flag("--print-default-config", print_default,
+               "Print the built-in configuration (a starting point) and exit");
+  app.set_version_flag("--version", std::string("tofcompd ") + TOFCOMP_VERSION);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  if (print_default) {
+    std::fwrite(config::embedded_default_config_text().data(), 1,
+                config::embedded_default_config_text().size(), stdout);
+    return 0;
+  }
+  try {
+    const config::DaemonConfig cfg = config_file.empty() ? config::embedded_default_config()
+                                                         : config::load_daemon_config(config_file);
+    if (check_only) {
+      std::printf("%s: valid\n", cfg.source.c_str());
+      return 0;
+    }
+    service::configure_logging(cfg.log.target, cfg.log.level);
+    spdlog::info("tofcompd {} starting with {}", TOFCOMP_VERSION, cfg.source);
+    Daemon daemon(cfg, config_file);
+    return daemon.run();
+  } catch (const tofcomp::core::Error& e) {
+    std::fprintf(stderr, "tofcompd: %s\n", e.what());
+    spdlog::critical("cannot start: {}", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tofcompd: internal error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,65 @@
+// The daemon's recording of what it took in (realtime/recording_replay.hpp's format): case
+// readings, power changes and raw scans, in the order the pipeline took them, into the
+// interchange CSV, one file per rotation period in the configured directory. Each file starts
+// with the last case reading and power state, so it can be trained on or replayed alone; the
+// first file replays to the very outputs the daemon published. Written on the event loop,
+// flushed after every scan, so a crash loses at most the scan being written.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "io/measurement_csv.hpp"
+#include "realtime/raw_scan.hpp"
+
+namespace tofcomp::daemon {
+
+struct RecorderSettings {
+  std::filesystem::path directory;
+  std::optional<long> max_rows;     // a new file after this many rows
+  std::optional<long> max_minutes;  // or after this long
+};
+
+struct RecorderCounters {
+  std::uint64_t rows = 0;
+  std::uint64_t files = 0;
+  std::uint64_t scans = 0;
+};
+
+class Recorder {
+ public:
+  // Creates the directory. Throws core::Error naming it when it cannot.
+  explicit Recorder(RecorderSettings settings);
+  ~Recorder();
+
+  void case_reading(double time_s, double case_c);
+  void power(double time_s, bool on);
+  // Throws core::Error naming the file when it cannot be written.
+  void scan(const realtime::RawScan& scan);
+
+  const std::filesystem::path& current_file() const { return current_path_; }
+  const RecorderCounters& counters() const { return counters_; }
+
+ private:
+  void open_file(const realtime::RawScan& first);
+  void write(const io::MeasurementRow& row);
+  bool rotation_due() const;
+
+  RecorderSettings settings_;
+  std::unique_ptr<std::ofstream> out_;
+  std::unique_ptr<io::MeasurementCsvWriter> writer_;
+  std::filesystem::path current_path_;
+  std::chrono::steady_clock::time_point opened_at_{};
+  long rows_in_file_ = 0;
+  std::vector<io::MeasurementRow> before_first_scan_;      // written when the first file opens
+  std::optional<std::pair<double, double>> last_reading_;  // time_s, °C
+  std::optional<bool> power_on_;
+  double last_time_s_ = 0.0;
+  RecorderCounters counters_;
+};
+
+}  // namespace tofcomp::daemon

@@ -1,0 +1,38 @@
+// Where tofcompd's log goes and how much of it: the systemd journal (native fields, priority
+// per level) or stderr, chosen by the rule systemd documents for JOURNAL_STREAM.
+#pragma once
+
+#include <spdlog/common.h>
+
+#include <string_view>
+
+namespace tofcomp::daemon::service {
+
+enum class LogTarget {
+  Auto,     // the journal when stderr is connected to it, otherwise stderr
+  Journal,  // sd_journal_send(3)
+  Stderr,   // one formatted line per message on stderr
+};
+
+// "auto", "journal", "stderr", in any case; throws core::InvalidInput naming the bad value
+// otherwise.
+LogTarget parse_log_target(std::string_view name);
+
+// spdlog's level names, in any case: trace, debug, info, warn (or warning), error (or err),
+// critical, off.
+// Throws core::InvalidInput naming the bad value and the accepted ones.
+spdlog::level::level_enum parse_log_level(std::string_view name);
+
+// systemd.exec(5): a service's stderr goes to the journal when JOURNAL_STREAM is set and its
+// "device:inode" (decimal) equals those of the stream. `journal_stream` is the variable's value
+// (nullptr when unset); `fd` the stream to check.
+bool stream_is_journal(const char* journal_stream, int fd);
+
+// Auto resolved by the rule above for stderr (reading JOURNAL_STREAM); other targets as given.
+LogTarget resolve_log_target(LogTarget requested);
+
+// Makes a logger named "tofcompd" writing to the resolved target at `level` spdlog's default
+// logger (what spdlog::info() and friends use), and returns the target chosen.
+LogTarget configure_logging(LogTarget target, spdlog::level::level_enum level);
+
+}  // namespace tofcomp::daemon::service

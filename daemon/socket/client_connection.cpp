@@ -1,0 +1,134 @@
+// A client connection's read and write coroutines.
+#include "daemon/socket/client_connection.hpp"
+
+#include <array>
+#include <utility>
+#include <vector>
+
+namespace tofcomp::daemon::socket {
+
+namespace asio = boost::asio;
+using asio::awaitable;
+using asio::use_awaitable;
+
+namespace {
+constexpr std::size_t kReadChunk = 4096;
+constexpr std::size_t kLinesPerWrite = 32;  // queued lines gathered into one write
+}  // namespace
+
+ClientConnection::ClientConnection(Stream stream, std::uint64_t number, std::size_t max_line_bytes,
+                                   Owner& owner)
+    : stream_(std::move(stream)),
+      number_(number),
+      max_line_bytes_(max_line_bytes),
+      owner_(owner),
+      timer_(stream_.get_executor()) {}
+
+void ClientConnection::start() {
+  asio::co_spawn(stream_.get_executor(), read_loop(shared_from_this()), asio::detached);
+  asio::co_spawn(stream_.get_executor(), write_loop(shared_from_this()), asio::detached);
+}
+
+bool ClientConnection::fits(std::size_t bytes, std::size_t bound) const {
+  return queued_bytes_ == 0 || (bytes <= bound && queued_bytes_ <= bound - bytes);
+}
+
+void ClientConnection::push(std::shared_ptr<const std::string> line) {
+  if (!accepting()) return;
+  queued_bytes_ += line->size();
+  queue_.push_back(std::move(line));
+  timer_.cancel();
+}
+
+void ClientConnection::close_after_flush() {
+  if (!accepting()) return;
+  draining_ = true;
+  timer_.cancel();
+}
+
+void ClientConnection::close(const std::string& why, bool notify_owner) {
+  if (closed_) return;
+  closed_ = true;
+  boost::system::error_code ignored;
+  stream_.close(ignored);
+  timer_.cancel();
+  const std::size_t unwritten = queued_bytes_;
+  queue_.clear();
+  queued_bytes_ = 0;
+  if (notify_owner) owner_.on_closed(*this, why, unwritten);
+}
+
+void ClientConnection::take(std::string_view bytes) {
+  partial_.append(bytes);
+  std::size_t start = 0;
+  const std::size_t searched = partial_.size() - bytes.size();
+  for (std::size_t newline = partial_.find('\n', searched); newline != std::string::npos;
+       newline = partial_.find('\n', start)) {
+    std::string_view line(partial_.data() + start, newline - start);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    start = newline + 1;
+    if (!line.empty()) owner_.on_line(*this, line);
+    if (!accepting()) return;  // on_line dropped the connection or ended it
+  }
+  partial_.erase(0, start);
+  if (partial_.size() > max_line_bytes_) owner_.on_overlong(*this);
+}
+
+awaitable<void> ClientConnection::read_loop(
+    std::shared_ptr<ClientConnection> /*keeps this alive*/) {
+  std::array<char, kReadChunk> chunk;
+  for (;;) {
+    boost::system::error_code ec;
+    const std::size_t n = co_await stream_.async_read_some(asio::buffer(chunk),
+                                                           asio::redirect_error(use_awaitable, ec));
+    if (closed_) co_return;
+    if (ec) {
+      close(ec == asio::error::eof ? "disconnected" : "read failed: " + ec.message());
+      co_return;
+    }
+    if (draining_) continue;  // lingering: what the client still sends is discarded
+    take(std::string_view(chunk.data(), n));
+  }
+}
+
+awaitable<void> ClientConnection::write_loop(
+    std::shared_ptr<ClientConnection> /*keeps this alive*/) {
+  std::vector<std::shared_ptr<const std::string>> batch;
+  std::vector<asio::const_buffer> buffers;
+  for (;;) {
+    boost::system::error_code ec;
+    if (closed_) co_return;
+    if (queue_.empty()) {
+      if (draining_) {
+        // Everything is written: end our side, give the client time to read it and close.
+        stream_.shutdown(Stream::shutdown_send, ec);
+        timer_.expires_after(kLingerAfterLastLine);
+        co_await timer_.async_wait(asio::redirect_error(use_awaitable, ec));
+        close("closed after its last reply");
+        co_return;
+      }
+      timer_.expires_at(asio::steady_timer::time_point::max());
+      co_await timer_.async_wait(asio::redirect_error(use_awaitable, ec));
+      continue;
+    }
+    batch.clear();
+    buffers.clear();
+    std::size_t bytes = 0;
+    for (std::size_t i = 0; i < queue_.size() && i < kLinesPerWrite; ++i) {
+      batch.push_back(queue_[i]);
+      buffers.push_back(asio::buffer(*queue_[i]));
+      bytes += queue_[i]->size();
+    }
+    co_await asio::async_write(stream_, buffers, asio::redirect_error(use_awaitable, ec));
+    if (closed_) co_return;
+    if (ec) {
+      close("write failed: " + ec.message());
+      co_return;
+    }
+    queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(batch.size()));
+    queued_bytes_ -= bytes;
+    owner_.on_written(*this, bytes);
+  }
+}
+
+}  // namespace tofcomp::daemon::socket

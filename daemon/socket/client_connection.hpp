@@ -1,0 +1,78 @@
+// One client of the socket server: its request lines read and framed, its outgoing lines in a
+// queue written asynchronously (gathered, in order), and its closing: at once, or after the
+// queue is written (half-close, then a short linger that discards what the client still sends,
+// so that it reads the last line and then the end of the stream, not a reset).
+// Lives on the server's io_context thread; the coroutines keep it alive until they end.
+#pragma once
+
+#include <boost/asio.hpp>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace tofcomp::daemon::socket {
+
+inline constexpr std::chrono::milliseconds kLingerAfterLastLine{2000};
+
+class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
+ public:
+  using Stream = boost::asio::local::stream_protocol::socket;
+
+  // Told what happens to the connection; never called once the connection is closed.
+  class Owner {
+   public:
+    // A complete line (without '\n' and a '\r' before it), not empty.
+    virtual void on_line(ClientConnection& connection, std::string_view line) = 0;
+    // More than max_line_bytes arrived without a '\n'.
+    virtual void on_overlong(ClientConnection& connection) = 0;
+    // bytes of queued lines were written.
+    virtual void on_written(ClientConnection& connection, std::size_t bytes) = 0;
+    // The connection closed (once); unwritten_bytes were still queued.
+    virtual void on_closed(ClientConnection& connection, const std::string& why,
+                           std::size_t unwritten_bytes) = 0;
+
+   protected:
+    virtual ~Owner() = default;
+  };
+
+  ClientConnection(Stream stream, std::uint64_t number, std::size_t max_line_bytes, Owner& owner);
+
+  // Starts reading and writing.
+  void start();
+
+  // True when a line of bytes may be queued under bound: the queue is empty (one line always
+  // goes) or the queued bytes plus these stay within bound.
+  bool fits(std::size_t bytes, std::size_t bound) const;
+  // Queues a line; ignored once the connection is closing.
+  void push(std::shared_ptr<const std::string> line);
+  // Reads no more requests; closes once the queue is written.
+  void close_after_flush();
+  // Closes now; tells the owner (unless notify_owner is false) why.
+  void close(const std::string& why, bool notify_owner = true);
+
+  bool accepting() const { return !closed_ && !draining_; }
+  bool closed() const { return closed_; }
+  std::size_t queued_bytes() const { return queued_bytes_; }
+  std::uint64_t number() const { return number_; }
+
+ private:
+  Stream stream_;
+  std::uint64_t number_;
+  std::size_t max_line_bytes_;
+  Owner& owner_;
+  boost::asio::steady_timer timer_;  // wakes the writer; then times the linger
+  std::deque<std::shared_ptr<const std::string>> queue_;
+  std::size_t queued_bytes_ = 0;
+  std::string partial_;  // bytes read after the last '\n'
+  bool draining_ = false;
+  bool closed_ = false;
+
+  boost::asio::awaitable<void> read_loop(std::shared_ptr<ClientConnection> self);
+  boost::asio::awaitable<void> write_loop(std::shared_ptr<ClientConnection> self);
+  void take(std::string_view bytes);
+};
+
+}  // namespace tofcomp::daemon::socket

@@ -1,0 +1,329 @@
+// The socket server: the listener, the connections, request lines to the dispatcher, published
+// scans to the subscribers, and the bounded queues' accounting.
+#include "daemon/socket/socket_server.hpp"
+
+#include <sys/stat.h>
+#include <sys/un.h>
+
+#include <cerrno>
+#include <cstring>
+#include <map>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "core/error.hpp"
+#include "daemon/socket/client_connection.hpp"
+#include "daemon/socket/request_dispatcher.hpp"
+#include "daemon/socket/scan_fanout.hpp"
+#include "daemon/socket/socket_path.hpp"
+#include "ipc/socket/reply.hpp"
+
+namespace tofcomp::daemon::socket {
+
+namespace asio = boost::asio;
+using asio::awaitable;
+using asio::use_awaitable;
+using Stream = asio::local::stream_protocol::socket;
+
+namespace {
+constexpr std::size_t kMinRequestBytes = 64;
+constexpr std::size_t kMaxRequestBytes = 1u << 20;
+constexpr std::chrono::milliseconds kAcceptErrorPause{100};
+constexpr std::size_t kMaxPathBytes = sizeof(sockaddr_un::sun_path) - 1;
+}  // namespace
+
+void SocketServerSettings::validate() const {
+  const auto fail = [](const std::string& what) {
+    throw core::InvalidInput("socket server: " + what);
+  };
+  if (path.empty()) fail("path: empty");
+  if (path.size() > kMaxPathBytes) {
+    fail("path: " + std::to_string(path.size()) + " bytes, more than the " +
+         std::to_string(kMaxPathBytes) + " a Unix socket path may have");
+  }
+  if (permissions > 0777) fail("permissions: " + std::to_string(permissions) + " is above 0777");
+  if (max_clients < 1) fail("max_clients: must be at least 1");
+  if (max_request_bytes < kMinRequestBytes || max_request_bytes > kMaxRequestBytes) {
+    fail("max_request_bytes: " + std::to_string(max_request_bytes) + " is outside " +
+         std::to_string(kMinRequestBytes) + ".." + std::to_string(kMaxRequestBytes));
+  }
+  if (max_queued_bytes_per_client < 1) fail("max_queued_bytes_per_client: must be at least 1");
+}
+
+nlohmann::ordered_json to_json(const SocketServerCounters& c) {
+  return {{"clients", c.clients},
+          {"subscribers", c.subscribers},
+          {"accepted_clients", c.accepted_clients},
+          {"refused_clients", c.refused_clients},
+          {"dropped_slow_clients", c.dropped_slow_clients},
+          {"requests", c.requests},
+          {"errors", c.errors},
+          {"scans_published", c.scans_published},
+          {"scan_encodings", c.scan_encodings},
+          {"queued_bytes", c.queued_bytes},
+          {"peak_queued_bytes", c.peak_queued_bytes},
+          {"peak_client_queued_bytes", c.peak_client_queued_bytes}};
+}
+
+class SocketServer::Impl final : public ClientConnection::Owner,
+                                 public std::enable_shared_from_this<Impl> {
+ public:
+  Impl(asio::io_context& io, SocketServerSettings settings, SocketRequestHandler& handler,
+       SocketLog log)
+      : settings_(std::move(settings)),
+        io_(io),
+        log_(std::move(log)),
+        dispatcher_(handler, settings_.max_request_bytes, [this] { return to_json(counters()); }),
+        acceptor_(io) {
+    settings_.validate();
+  }
+
+  void start();
+  void stop();
+  void publish(const ipc::CompensatedScan& scan);
+  SocketServerCounters counters() const;
+
+  void on_line(ClientConnection& connection, std::string_view line) override;
+  void on_overlong(ClientConnection& connection) override;
+  void on_written(ClientConnection& connection, std::size_t bytes) override;
+  void on_closed(ClientConnection& connection, const std::string& why,
+                 std::size_t unwritten_bytes) override;
+
+  SocketServerSettings settings_;
+  bool running_ = false;
+
+ private:
+  struct Client {
+    std::shared_ptr<ClientConnection> connection;
+    bool admitted = false;
+    std::optional<Subscription> subscription;
+  };
+
+  asio::io_context& io_;
+  SocketLog log_;
+  RequestDispatcher dispatcher_;
+  asio::local::stream_protocol::acceptor acceptor_;
+  std::map<std::uint64_t, Client> clients_;
+  std::uint64_t next_number_ = 1;
+  std::uint64_t admitted_now_ = 0;
+  std::uint64_t generation_ = 0;  // of the accept loop: a restarted server ignores the old one
+  SocketServerCounters counters_;
+  std::optional<FileIdentity> made_;
+
+  awaitable<void> accept_loop(std::shared_ptr<Impl> self, std::uint64_t generation);
+  void admit(Stream stream);
+  void enqueue(ClientConnection& connection, std::shared_ptr<const std::string> line);
+  void log(SocketLogLevel level, const std::string& message) const {
+    if (log_) log_(level, "socket: " + message);
+  }
+  std::string name(const ClientConnection& c) const {
+    return "client " + std::to_string(c.number());
+  }
+};
+
+void SocketServer::Impl::start() {
+  if (running_) return;
+  const std::string& path = settings_.path;
+  if (clear_stale_socket(path)) log(SocketLogLevel::Info, "removed the stale socket file " + path);
+  boost::system::error_code ec;
+  acceptor_.open(asio::local::stream_protocol(), ec);
+  if (!ec) acceptor_.bind(asio::local::stream_protocol::endpoint(path), ec);
+  if (ec) {
+    boost::system::error_code ignored;
+    acceptor_.close(ignored);
+    throw core::Error("cannot bind the socket " + path + ": " + ec.message() +
+                      (ec == boost::system::errc::no_such_file_or_directory
+                           ? " (its directory does not exist)"
+                           : ""));
+  }
+  made_ = identity_of(path);
+  const auto undo = [&](const std::string& what) {
+    boost::system::error_code ignored;
+    acceptor_.close(ignored);
+    if (made_) remove_if_same(path, *made_);
+    made_.reset();
+    throw core::Error(what);
+  };
+  if (::chmod(path.c_str(), static_cast<mode_t>(settings_.permissions)) != 0) {
+    undo("cannot set the permissions of " + path + ": " + std::strerror(errno));
+  }
+  acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+  if (ec) undo("cannot listen on " + path + ": " + ec.message());
+  running_ = true;
+  asio::co_spawn(io_, accept_loop(shared_from_this(), ++generation_), asio::detached);
+  log(SocketLogLevel::Info, "listening on " + path);
+}
+
+void SocketServer::Impl::stop() {
+  if (!running_) return;
+  running_ = false;
+  boost::system::error_code ignored;
+  acceptor_.close(ignored);
+  auto clients = std::move(clients_);
+  clients_.clear();
+  for (auto& [number, client] : clients) client.connection->close("the server stopped", false);
+  admitted_now_ = 0;
+  counters_.queued_bytes = 0;
+  if (made_) remove_if_same(settings_.path, *made_);
+  made_.reset();
+  log(SocketLogLevel::Info, "stopped listening on " + settings_.path);
+}
+
+awaitable<void> SocketServer::Impl::accept_loop(std::shared_ptr<Impl> /*keeps this alive*/,
+                                                std::uint64_t generation) {
+  for (;;) {
+    boost::system::error_code ec;
+    Stream stream = co_await acceptor_.async_accept(asio::redirect_error(use_awaitable, ec));
+    if (!running_ || generation != generation_) co_return;
+    if (ec) {
+      // Out of descriptors, most likely: wait a little rather than spin.
+      log(SocketLogLevel::Warning, "accepting a connection failed: " + ec.message());
+      asio::steady_timer pause(io_, kAcceptErrorPause);
+      co_await pause.async_wait(asio::redirect_error(use_awaitable, ec));
+      if (!running_ || generation != generation_) co_return;
+      continue;
+    }
+    admit(std::move(stream));
+  }
+}
+
+void SocketServer::Impl::admit(Stream stream) {
+  const std::uint64_t number = next_number_++;
+  auto connection = std::make_shared<ClientConnection>(std::move(stream), number,
+                                                       settings_.max_request_bytes, *this);
+  const bool admitted = admitted_now_ < settings_.max_clients;
+  clients_.emplace(number, Client{connection, admitted, std::nullopt});
+  connection->start();
+  if (admitted) {
+    ++admitted_now_;
+    ++counters_.accepted_clients;
+    return;
+  }
+  ++counters_.refused_clients;
+  log(SocketLogLevel::Warning, name(*connection) +
+                                   " turned away: " + std::to_string(settings_.max_clients) +
+                                   " clients are connected (max_clients)");
+  enqueue(*connection,
+          std::make_shared<const std::string>(ipc::socket::encode_error_reply(
+              std::nullopt, ipc::socket::ErrorCode::Unavailable,
+              "connection: too many clients; " + std::to_string(settings_.max_clients) +
+                  " are connected, the most the daemon serves (max_clients)")));
+  connection->close_after_flush();
+}
+
+void SocketServer::Impl::enqueue(ClientConnection& connection,
+                                 std::shared_ptr<const std::string> line) {
+  if (!connection.accepting()) return;
+  const std::size_t bound = settings_.max_queued_bytes_per_client;
+  if (!connection.fits(line->size(), bound)) {
+    ++counters_.dropped_slow_clients;
+    const std::string why =
+        "dropped: it is not reading (" + std::to_string(connection.queued_bytes()) +
+        " bytes queued, a line of " + std::to_string(line->size()) +
+        " more would pass max_queued_bytes_per_client " + std::to_string(bound) + ")";
+    log(SocketLogLevel::Warning, name(connection) + " " + why);
+    connection.close(why);
+    return;
+  }
+  const std::size_t bytes = line->size();
+  connection.push(std::move(line));
+  counters_.queued_bytes += bytes;
+  counters_.peak_queued_bytes = std::max(counters_.peak_queued_bytes, counters_.queued_bytes);
+  counters_.peak_client_queued_bytes =
+      std::max<std::uint64_t>(counters_.peak_client_queued_bytes, connection.queued_bytes());
+}
+
+void SocketServer::Impl::publish(const ipc::CompensatedScan& scan) {
+  if (!running_) return;
+  ++counters_.scans_published;
+  ScanFanout fanout(scan);
+  // The lines first, then the queueing: a drop while queueing changes clients_.
+  std::vector<std::pair<std::shared_ptr<ClientConnection>, std::shared_ptr<const std::string>>>
+      sends;
+  for (const auto& [number, client] : clients_) {
+    if (!client.subscription || !client.connection->accepting()) continue;
+    if (auto line = fanout.line_for(*client.subscription)) {
+      sends.emplace_back(client.connection, std::move(line));
+    }
+  }
+  counters_.scan_encodings += fanout.encodings();
+  for (auto& [connection, line] : sends) enqueue(*connection, std::move(line));
+}
+
+SocketServerCounters SocketServer::Impl::counters() const {
+  SocketServerCounters c = counters_;
+  c.clients = admitted_now_;
+  c.subscribers = 0;
+  for (const auto& [number, client] : clients_) {
+    if (client.admitted && client.subscription && client.connection->accepting()) ++c.subscribers;
+  }
+  return c;
+}
+
+void SocketServer::Impl::on_line(ClientConnection& connection, std::string_view line) {
+  const auto it = clients_.find(connection.number());
+  if (it == clients_.end()) return;
+  ++counters_.requests;
+  Answer answer = dispatcher_.answer(line, it->second.subscription);
+  if (answer.error) ++counters_.errors;
+  enqueue(connection, std::make_shared<const std::string>(std::move(answer.line)));
+  if (answer.close) {
+    log(SocketLogLevel::Info, name(connection) + ": request too long; closing its connection");
+    connection.close_after_flush();
+  }
+}
+
+void SocketServer::Impl::on_overlong(ClientConnection& connection) {
+  ++counters_.requests;
+  ++counters_.errors;
+  enqueue(connection, std::make_shared<const std::string>(ipc::socket::encode_error_reply(
+                          std::nullopt, ipc::socket::ErrorCode::TooLong,
+                          "request: more than " + std::to_string(settings_.max_request_bytes) +
+                              " bytes without a line end (the limit of a request)")));
+  log(SocketLogLevel::Info, name(connection) + ": request too long; closing its connection");
+  connection.close_after_flush();
+}
+
+void SocketServer::Impl::on_written(ClientConnection&, std::size_t bytes) {
+  counters_.queued_bytes -= std::min<std::uint64_t>(bytes, counters_.queued_bytes);
+}
+
+void SocketServer::Impl::on_closed(ClientConnection& connection, const std::string& why,
+                                   std::size_t unwritten_bytes) {
+  counters_.queued_bytes -= std::min<std::uint64_t>(unwritten_bytes, counters_.queued_bytes);
+  const auto it = clients_.find(connection.number());
+  if (it == clients_.end()) return;
+  if (it->second.admitted) --admitted_now_;
+  clients_.erase(it);
+  log(SocketLogLevel::Info, name(connection) + " closed: " + why);
+}
+
+SocketServer::SocketServer(asio::io_context& io, SocketServerSettings settings,
+                           SocketRequestHandler& handler, SocketLog log)
+    : impl_(std::make_shared<Impl>(io, std::move(settings), handler, std::move(log))) {}
+
+SocketServer::~SocketServer() {
+  stop();
+}
+
+void SocketServer::start() {
+  impl_->start();
+}
+void SocketServer::stop() {
+  impl_->stop();
+}
+void SocketServer::publish(const ipc::CompensatedScan& scan) {
+  impl_->publish(scan);
+}
+SocketServerCounters SocketServer::counters() const {
+  return impl_->counters();
+}
+const SocketServerSettings& SocketServer::settings() const {
+  return impl_->settings_;
+}
+bool SocketServer::running() const {
+  return impl_->running_;
+}
+
+}  // namespace tofcomp::daemon::socket

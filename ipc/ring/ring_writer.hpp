@@ -1,0 +1,52 @@
+// The one writer of a shared-memory ring (docs/shm-ring.md): creates the POSIX shm object,
+// publishes each compensated scan into the next slot under the slot's sequence lock, and never
+// waits for readers. Not thread-safe: one thread publishes.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "ipc/compensated_scan.hpp"
+#include "ipc/ring/ring_layout.hpp"
+#include "ipc/ring/shm_object.hpp"
+
+namespace tofcomp::ipc::ring {
+
+struct RingWriterOptions {
+  unsigned mode = 0640;        // permissions of the object; readers need read permission
+  bool keep_on_close = false;  // leave the object (marked closed) when the writer goes away
+};
+
+class RingWriter {
+ public:
+  // Creates the ring `name` ("/tofcompd") with slot_count slots of max_beams beams. A ring of
+  // that name left by a writer that is gone (closed, or its process no longer runs) is removed
+  // first; a ring whose writer still runs, or an object that is not a tofcomp ring, is an
+  // error. Throws core::InvalidInput for a bad name or counts, core::Error for a failed call.
+  RingWriter(std::string name, std::uint32_t slot_count = kDefaultSlotCount,
+             std::uint32_t max_beams = kDefaultMaxBeams, RingWriterOptions options = {});
+  // Marks the ring closed, unmaps it and, unless keep_on_close, removes the name (only if it
+  // still refers to this ring).
+  ~RingWriter();
+  RingWriter(const RingWriter&) = delete;
+  RingWriter& operator=(const RingWriter&) = delete;
+
+  // Copies scan into the next slot, overwriting the oldest. A scan with more beams than
+  // max_beams is core::InvalidInput and publishes nothing.
+  void publish(const CompensatedScan& scan);
+
+  const std::string& name() const { return name_; }
+  std::uint64_t published() const { return published_; }  // scans published so far
+  std::uint64_t generation() const { return generation_; }
+  const RingGeometry& geometry() const { return geometry_; }
+
+ private:
+  std::string name_;
+  RingGeometry geometry_;
+  RingWriterOptions options_;
+  std::uint64_t generation_ = 0;
+  std::uint64_t published_ = 0;
+  ShmMapping mapping_;
+};
+
+}  // namespace tofcomp::ipc::ring

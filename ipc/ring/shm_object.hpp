@@ -1,0 +1,69 @@
+// POSIX shared-memory objects as the ring uses them: name checks, exclusive creation with a
+// fixed mode, read-only opening, whole-object mappings that unmap themselves, and removal of a
+// name only while it still refers to the object one created. Errors are core::Error with the
+// object's name and the failed call.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace tofcomp::ipc::ring {
+
+// How messages name an object: "shm object '/tofcompd'".
+std::string describe_object(const std::string& name);
+
+// Throws core::InvalidInput unless name is a portable POSIX shm name: '/' followed by 1 to 254
+// characters, none of them '/' or NUL.
+void validate_shm_name(const std::string& name);
+
+// Which object a name referred to when it was opened (its tmpfs device and inode): a name
+// re-created by another writer refers to another object.
+struct ShmObjectId {
+  std::uint64_t device = 0;
+  std::uint64_t inode = 0;
+  bool operator==(const ShmObjectId&) const = default;
+};
+
+// A mapping of a whole shm object, unmapped on destruction. An object of 0 bytes has no
+// mapping: data() is null and size() is 0.
+class ShmMapping {
+ public:
+  ShmMapping() = default;
+  ShmMapping(void* address, std::size_t size, ShmObjectId id);
+  ShmMapping(ShmMapping&& other) noexcept;
+  ShmMapping& operator=(ShmMapping&& other) noexcept;
+  ShmMapping(const ShmMapping&) = delete;
+  ShmMapping& operator=(const ShmMapping&) = delete;
+  ~ShmMapping();
+
+  std::byte* data() const { return static_cast<std::byte*>(address_); }
+  std::size_t size() const { return size_; }
+  ShmObjectId id() const { return id_; }
+
+ private:
+  void release() noexcept;
+  void* address_ = nullptr;
+  std::size_t size_ = 0;
+  ShmObjectId id_;
+};
+
+// Opens name read-only and maps all of it read-only; nullopt when no object has that name.
+std::optional<ShmMapping> map_existing_read_only(const std::string& name);
+
+// The identity of the object name refers to now; nullopt when none.
+std::optional<ShmObjectId> identify_object(const std::string& name);
+
+// Creates name (O_CREAT | O_EXCL: fails if it exists) with exactly `mode` (set with fchmod, so
+// the umask does not narrow it), sizes it to `bytes` (zero-filled) and maps it read-write.
+// On failure nothing is left behind.
+ShmMapping create_exclusive(const std::string& name, std::size_t bytes, unsigned mode);
+
+// Removes name; no error when it does not exist.
+void unlink_object(const std::string& name);
+
+// Removes name only if it still refers to object `id`; returns whether it did.
+bool unlink_object_if(const std::string& name, ShmObjectId id);
+
+}  // namespace tofcomp::ipc::ring

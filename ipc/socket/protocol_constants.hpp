@@ -1,0 +1,16 @@
+// The numbers of tofcompd's socket protocol (docs/protocol.md): where the socket is by default
+// and the limits a request must keep to.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace tofcomp::ipc::socket {
+
+inline constexpr const char* kDefaultSocketPath = "/run/tofcompd/tofcompd.sock";
+inline constexpr std::size_t kDefaultMaxRequestBytes = 4096;  // one request line, '\n' excluded
+inline constexpr std::size_t kMaxIdBytes = 256;               // a string id
+inline constexpr std::uint32_t kMaxBeamIndex = 65535;         // beams: indices 0..65535
+inline constexpr std::uint32_t kMaxEvery = 1000000;           // subscribe: every 1..1000000
+
+}  // namespace tofcomp::ipc::socket

@@ -1,0 +1,190 @@
+// The scan encoder: numbers in their shortest exact form (std::to_chars), non-finite as null.
+#include "ipc/socket/scan_json.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <string_view>
+#include <system_error>
+
+#include "core/error.hpp"
+
+namespace tofcomp::ipc::socket {
+
+namespace {
+
+constexpr std::array<std::string_view, 5> kFlagNames{"no_echo", "uncalibrated", "temperature_stale",
+                                                     "window_restarting", "change_detected"};
+
+// Appends JSON text to a string; keys and names are the encoder's own (no escaping needed).
+class JsonText {
+ public:
+  explicit JsonText(std::string& out) : out_(out) {}
+
+  void key(std::string_view name) {
+    separate();
+    out_ += '"';
+    out_ += name;
+    out_ += "\":";
+    fresh_ = true;
+  }
+  void open(char bracket) {
+    separate();
+    out_ += bracket;
+    fresh_ = true;
+  }
+  void close(char bracket) {
+    out_ += bracket;
+    fresh_ = false;
+  }
+  void name(std::string_view text) {
+    separate();
+    out_ += '"';
+    out_ += text;
+    out_ += '"';
+  }
+  void number(double value) {
+    separate();
+    if (!std::isfinite(value)) {
+      out_ += "null";
+      return;
+    }
+    append_chars(value);
+  }
+  // A float as the shortest decimal that reads back as that float (0.1f is "0.1").
+  void number(float value) {
+    separate();
+    if (!std::isfinite(value)) {
+      out_ += "null";
+      return;
+    }
+    append_chars(value);
+  }
+  template <typename Integer>
+  void integer(Integer value) {
+    separate();
+    append_chars(value);
+  }
+
+ private:
+  std::string& out_;
+  bool fresh_ = true;  // nothing written yet in the current object or array, or after a key
+
+  void separate() {
+    if (!fresh_) out_ += ',';
+    fresh_ = false;
+  }
+  template <typename T>
+  void append_chars(T value) {
+    std::array<char, 32> buffer;
+    const auto [end, ec] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+    if (ec != std::errc()) throw core::Error("scan encoder: a number did not fit 32 characters");
+    out_.append(buffer.data(), end);
+  }
+};
+
+void encode_beam(JsonText& json, const ipc::BeamValue& beam, std::size_t index) {
+  json.open('{');
+  json.key("index");
+  json.integer(index);
+  json.key("raw_mm");
+  json.number(beam.raw_mm);
+  json.key("compensated_mm");
+  json.number(beam.compensated_mm);
+  json.key("window_mm");
+  json.number(beam.window_mm);
+  json.key("window_std_mm");
+  json.number(beam.window_std_mm);
+  json.key("flags");
+  json.integer(beam.flags);
+  json.key("flag_names");
+  json.open('[');
+  for (const auto& name : flag_names(beam.flags)) json.name(name);
+  json.close(']');
+  json.key("mode_count");
+  json.integer(static_cast<unsigned>(beam.mode_count));
+  json.key("most_probable_mode");
+  json.integer(static_cast<unsigned>(beam.most_probable_mode));
+  json.key("mode_posterior");
+  json.open('[');
+  const std::size_t modes = std::min<std::size_t>(beam.mode_count, ipc::kMaxModes);
+  for (std::size_t m = 0; m < modes; ++m) json.number(beam.mode_posterior[m]);
+  json.close(']');
+  json.close('}');
+}
+
+}  // namespace
+
+BeamSpan beams_exactly(const std::optional<BeamRange>& wanted, std::size_t beam_count) {
+  if (!wanted) return {0, beam_count};
+  if (wanted->last >= beam_count) {
+    throw ProtocolError(ErrorCode::BadRange,
+                        "beams: [" + std::to_string(wanted->first) + ", " +
+                            std::to_string(wanted->last) + "] reaches beyond the scan, which has " +
+                            std::to_string(beam_count) + " beams" +
+                            (beam_count > 0 ? " (0.." + std::to_string(beam_count - 1) + ")" : ""));
+  }
+  return {wanted->first, std::size_t{wanted->last} - wanted->first + 1};
+}
+
+BeamSpan beams_clipped(const std::optional<BeamRange>& wanted, std::size_t beam_count) {
+  if (!wanted) return {0, beam_count};
+  if (wanted->first >= beam_count) return {wanted->first, 0};
+  const std::size_t end = std::min<std::size_t>(std::size_t{wanted->last} + 1, beam_count);
+  return {wanted->first, end - wanted->first};
+}
+
+std::vector<std::string> flag_names(std::uint16_t flags) {
+  std::vector<std::string> names;
+  for (unsigned bit = 0; bit < 16; ++bit) {
+    if ((flags & (1u << bit)) == 0) continue;
+    names.emplace_back(bit < kFlagNames.size() ? std::string(kFlagNames[bit])
+                                               : "bit" + std::to_string(bit));
+  }
+  return names;
+}
+
+std::string encode_scan(const ipc::CompensatedScan& scan, BeamSpan span) {
+  if (span.count > 0 &&
+      (span.first >= scan.beams.size() || span.count > scan.beams.size() - span.first)) {
+    throw core::InvalidInput("encode_scan: beams " + std::to_string(span.first) + " + " +
+                             std::to_string(span.count) + " lie outside the scan's " +
+                             std::to_string(scan.beams.size()) + " beams");
+  }
+  std::string out;
+  out.reserve(400 + 200 * span.count);
+  JsonText json(out);
+  json.open('{');
+  json.key("sequence");
+  json.integer(scan.sequence);
+  json.key("device_sequence");
+  json.integer(scan.device_sequence);
+  json.key("timestamp_ns");
+  json.integer(scan.timestamp_ns);
+  json.key("junction_c");
+  json.number(scan.junction_c);
+  json.key("junction_std_c");
+  json.number(scan.junction_std_c);
+  json.key("case_c");
+  json.number(scan.case_c);
+  json.key("start_angle_deg");
+  json.number(scan.start_angle_deg);
+  json.key("resolution_deg");
+  json.number(scan.resolution_deg);
+  json.key("calibration_id");
+  json.integer(scan.calibration_id);
+  json.key("beam_count");
+  json.integer(scan.beams.size());
+  json.key("first_beam");
+  json.integer(span.first);
+  json.key("beams");
+  json.open('[');
+  for (std::size_t i = span.first; i < span.first + span.count; ++i) {
+    encode_beam(json, scan.beams[i], i);
+  }
+  json.close(']');
+  json.close('}');
+  return out;
+}
+
+}  // namespace tofcomp::ipc::socket

@@ -1,0 +1,57 @@
+#include "realtime/compensation_pipeline.hpp"
+
+namespace tofcomp::realtime {
+
+CompensationPipeline::CompensationPipeline(PipelineSettings settings)
+    : settings_(settings), compensator_(settings.window) {}
+
+void CompensationPipeline::restart_tracker() {
+  tracker_.reset();
+  if (!calibration_) return;
+  tracker_.emplace(*calibration_, settings_.junction);
+  if (power_) tracker_->set_power(power_->first, power_->second);
+  if (last_reading_) tracker_->add_case_reading(last_reading_->first, last_reading_->second);
+}
+
+void CompensationPipeline::set_calibration(std::shared_ptr<const io::Calibration> calibration,
+                                           std::uint32_t id) {
+  JunctionTracker check(*calibration, settings_.junction);  // throws before anything changes
+  compensator_.set_calibration(calibration, id);
+  calibration_ = std::move(calibration);
+  restart_tracker();
+}
+
+void CompensationPipeline::clear_calibration() {
+  compensator_.clear_calibration();
+  calibration_.reset();
+  tracker_.reset();
+}
+
+void CompensationPipeline::set_settings(const PipelineSettings& settings) {
+  compensator_.set_window_options(settings.window);
+  const bool junction_changed =
+      settings.junction.stale_after_s != settings_.junction.stale_after_s ||
+      settings.junction.initial_case_std_c != settings_.junction.initial_case_std_c ||
+      settings.junction.initial_junction_std_c != settings_.junction.initial_junction_std_c;
+  settings_ = settings;
+  if (junction_changed) restart_tracker();
+}
+
+void CompensationPipeline::on_case_reading(double time_s, double case_c) {
+  last_reading_ = {time_s, case_c};
+  if (tracker_) tracker_->add_case_reading(time_s, case_c);
+}
+
+void CompensationPipeline::on_power(double time_s, bool on) {
+  power_ = {time_s, on};
+  if (tracker_) tracker_->set_power(time_s, on);
+}
+
+ipc::CompensatedScan CompensationPipeline::on_scan(const RawScan& scan) {
+  const JunctionEstimate junction = tracker_ ? tracker_->at(scan.time_s) : JunctionEstimate{};
+  ipc::CompensatedScan out = compensator_.compensate(scan, junction, next_sequence_);
+  ++next_sequence_;
+  return out;
+}
+
+}  // namespace tofcomp::realtime

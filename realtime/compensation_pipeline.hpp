@@ -1,0 +1,59 @@
+// The daemon's compensation path as one object, fed events in arrival order: case readings,
+// power changes and scans. tofcompd feeds it live; replay_recording (realtime/recording_replay.hpp)
+// feeds it a recording's rows, so that the two give the same outputs for the same events.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include "realtime/junction_tracker.hpp"
+#include "realtime/scan_compensator.hpp"
+
+namespace tofcomp::realtime {
+
+struct PipelineSettings {
+  core::SlidingWindowOptions window{.window = 200,
+                                    .min_samples = 10,
+                                    .method = core::WindowEm::Incremental,
+                                    .em = {},
+                                    .refreshes = 4,
+                                    .change = {}};
+  JunctionTrackerSettings junction;
+};
+
+class CompensationPipeline {
+ public:
+  explicit CompensationPipeline(PipelineSettings settings = {});
+
+  // Swaps the calibration in between two scans (id > 0, increasing): the junction filter
+  // restarts on the new thermal model from the last case reading, every window restarts.
+  // Throws core::InvalidInput for a model the pipeline cannot use; the old one then stays.
+  void set_calibration(std::shared_ptr<const io::Calibration> calibration, std::uint32_t id);
+  // Back to publishing raw ranges, flagged uncalibrated.
+  void clear_calibration();
+  // New settings (a reload): windows restart; the junction filter keeps its state unless its
+  // settings changed.
+  void set_settings(const PipelineSettings& settings);
+
+  void on_case_reading(double time_s, double case_c);
+  void on_power(double time_s, bool on);
+  // The scan compensated, numbered from 0 without gaps.
+  ipc::CompensatedScan on_scan(const RawScan& scan);
+
+  const io::Calibration* calibration() const { return compensator_.calibration(); }
+  std::uint64_t scans() const { return next_sequence_; }
+
+ private:
+  void restart_tracker();
+
+  PipelineSettings settings_;
+  ScanCompensator compensator_;
+  std::shared_ptr<const io::Calibration> calibration_;
+  std::optional<JunctionTracker> tracker_;
+  std::optional<std::pair<double, double>> last_reading_;  // time_s, case_c
+  std::optional<std::pair<double, bool>> power_;           // time_s of the last change, state
+  std::uint64_t next_sequence_ = 0;
+};
+
+}  // namespace tofcomp::realtime

@@ -1,0 +1,67 @@
+#include "realtime/junction_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace tofcomp::realtime {
+
+JunctionTracker::JunctionTracker(const io::Calibration& calibration,
+                                 JunctionTrackerSettings settings)
+    : calibration_(calibration), settings_(settings) {
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!positive(settings_.stale_after_s) || !positive(settings_.initial_case_std_c) ||
+      !positive(settings_.initial_junction_std_c)) {
+    throw core::InvalidInput(
+        "junction tracker: stale_after_s and the initial standard deviations must be positive");
+  }
+  calibration_.thermal.validate();
+  calibration_.noise.validate();
+}
+
+void JunctionTracker::advance_to(double time_s) {
+  if (!filter_ || time_s <= filter_time_s_) return;
+  filter_->predict(time_s - filter_time_s_, power_on_ ? 1.0 : 0.0, calibration_.ambient_c);
+  filter_time_s_ = time_s;
+}
+
+void JunctionTracker::add_case_reading(double time_s, double case_c) {
+  if (!std::isfinite(time_s) || !std::isfinite(case_c)) {
+    throw core::InvalidInput("junction tracker: a case reading must be finite");
+  }
+  if (!filter_) {
+    // The prior of the offline pipeline: the steady state at this case temperature.
+    filter_.emplace(calibration_.thermal, calibration_.noise,
+                    core::prior_at_case_temperature(
+                        calibration_.thermal, case_c, power_on_ ? 1.0 : 0.0,
+                        settings_.initial_case_std_c, settings_.initial_junction_std_c));
+    filter_time_s_ = time_s;
+  }
+  advance_to(time_s);
+  filter_->update(case_c);
+  last_reading_time_s_ = std::max(last_reading_time_s_, time_s);
+  last_case_c_ = case_c;
+}
+
+void JunctionTracker::set_power(double time_s, bool on) {
+  advance_to(time_s);  // the interval before the change had the old state
+  power_on_ = on;
+}
+
+JunctionEstimate JunctionTracker::at(double time_s) const {
+  JunctionEstimate e;
+  if (!filter_) return e;
+  core::ThermalKalmanFilter predicted = *filter_;
+  if (time_s > filter_time_s_) {
+    predicted.predict(time_s - filter_time_s_, power_on_ ? 1.0 : 0.0, calibration_.ambient_c);
+  }
+  e.valid = true;
+  e.junction_c = predicted.junction_mean_c();
+  e.junction_std_c = predicted.junction_std_c();
+  e.case_c = last_case_c_;
+  e.stale = time_s - last_reading_time_s_ > settings_.stale_after_s;
+  return e;
+}
+
+}  // namespace tofcomp::realtime

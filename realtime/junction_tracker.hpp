@@ -1,0 +1,55 @@
+// §3.3, Eq. 7 in real time: the junction temperature t^j at each scan, from the case readings
+// as they arrive, by the causal Kalman filter of core/kalman.hpp on the calibration's thermal
+// model. Readings update the filter; a scan's junction temperature is the filter predicted to
+// the scan's time (the filter itself is not moved, so a reading that arrives later is used at
+// its own time). The scanner's power (the laser's heat input u of Eq. 4) is held between
+// changes. Times are seconds on one monotonic clock.
+#pragma once
+
+#include <optional>
+
+#include "core/kalman.hpp"
+#include "io/calibration_file.hpp"
+
+namespace tofcomp::realtime {
+
+struct JunctionTrackerSettings {
+  double stale_after_s = 10.0;          // a scan this long after the last reading is flagged
+  double initial_case_std_c = 0.5;      // prior at the first reading
+  double initial_junction_std_c = 2.0;  // the junction may be anywhere near its steady state
+};
+
+struct JunctionEstimate {
+  bool valid = false;  // false until the first case reading
+  double junction_c = 0.0;
+  double junction_std_c = 0.0;
+  double case_c = 0.0;  // the last reading accepted
+  bool stale = false;   // no reading within stale_after_s of the scan
+};
+
+class JunctionTracker {
+ public:
+  // Throws core::InvalidInput for settings that are not positive and finite.
+  JunctionTracker(const io::Calibration& calibration, JunctionTrackerSettings settings = {});
+
+  // A valid case reading t^s at time_s. A reading older than the filter's time is taken at the
+  // filter's time (a step of zero). Throws core::InvalidInput on a non-finite value.
+  void add_case_reading(double time_s, double case_c);
+  // The scanner's power from time_s on.
+  void set_power(double time_s, bool on);
+  // t^j predicted to time_s (never before the last reading).
+  JunctionEstimate at(double time_s) const;
+
+ private:
+  void advance_to(double time_s);
+
+  io::Calibration calibration_;
+  JunctionTrackerSettings settings_;
+  std::optional<core::ThermalKalmanFilter> filter_;
+  double filter_time_s_ = 0.0;
+  double last_reading_time_s_ = 0.0;
+  double last_case_c_ = 0.0;
+  bool power_on_ = true;
+};
+
+}  // namespace tofcomp::realtime

@@ -1,0 +1,122 @@
+#include "realtime/scan_compensator.hpp"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace tofcomp::realtime {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+}  // namespace
+
+ScanCompensator::ScanCompensator(core::SlidingWindowOptions window) : window_options_(window) {}
+
+void ScanCompensator::set_calibration(std::shared_ptr<const io::Calibration> calibration,
+                                      std::uint32_t id) {
+  if (!calibration) throw core::InvalidInput("scan compensator: no calibration given");
+  calibration->model.validate();
+  if (calibration->model.noise.modes() > ipc::kMaxModes) {
+    throw core::InvalidInput("calibration has " + std::to_string(calibration->model.noise.modes()) +
+                             " lasing modes; the published record carries at most " +
+                             std::to_string(ipc::kMaxModes));
+  }
+  // Checks the window options against these modes before anything changes.
+  core::SlidingWindowEstimator check(calibration->model.noise, window_options_);
+  calibration_ = std::move(calibration);
+  calibration_id_ = id;
+  windows_.clear();
+}
+
+void ScanCompensator::clear_calibration() {
+  calibration_.reset();
+  calibration_id_ = 0;
+  windows_.clear();
+}
+
+void ScanCompensator::set_window_options(const core::SlidingWindowOptions& window) {
+  if (calibration_) core::SlidingWindowEstimator check(calibration_->model.noise, window);
+  window_options_ = window;
+  windows_.clear();
+}
+
+void ScanCompensator::rebuild_windows(std::size_t beams) {
+  windows_.clear();
+  windows_.reserve(beams);
+  for (std::size_t b = 0; b < beams; ++b) {
+    windows_.emplace_back(calibration_->model.noise, window_options_);
+  }
+}
+
+ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
+                                                 const JunctionEstimate& junction,
+                                                 std::uint64_t sequence) {
+  const std::size_t beams = scan.ranges_mm.size();
+  if (scan.no_echo.size() != beams) {
+    throw core::InvalidInput("scan " + std::to_string(scan.device_sequence) + ": " +
+                             std::to_string(beams) + " ranges but " +
+                             std::to_string(scan.no_echo.size()) + " echo flags");
+  }
+  ipc::CompensatedScan out;
+  out.sequence = sequence;
+  out.device_sequence = scan.device_sequence;
+  out.timestamp_ns = scan.timestamp_ns;
+  out.start_angle_deg = scan.start_angle_deg;
+  out.resolution_deg = scan.resolution_deg;
+  out.calibration_id = calibration_id_;
+  out.junction_c = junction.valid ? junction.junction_c : kNaN;
+  out.junction_std_c = junction.valid ? junction.junction_std_c : kNaN;
+  out.case_c = junction.valid ? junction.case_c : kNaN;
+  out.beams.resize(beams);
+
+  const bool calibrated = calibration_ != nullptr;
+  const bool compensating = calibrated && junction.valid;
+  std::uint16_t scan_flags = 0;
+  if (!calibrated) scan_flags |= ipc::kBeamUncalibrated;
+  if (!junction.valid || junction.stale) scan_flags |= ipc::kBeamTemperatureStale;
+  if (compensating && windows_.size() != beams) rebuild_windows(beams);
+  // Eq. 8: the bias H(t̂^j)θ̂ is one value for the whole scan.
+  const double bias = compensating ? calibration_->model.bias_at(junction.junction_c) : 0.0;
+  const core::MixtureParameters* modes = calibrated ? &calibration_->model.noise : nullptr;
+
+  for (std::size_t b = 0; b < beams; ++b) {
+    ipc::BeamValue& v = out.beams[b];
+    v.flags = scan_flags;
+    v.mode_count = modes ? static_cast<std::uint8_t>(modes->modes()) : 0;
+    v.compensated_mm = kNaN;
+    v.window_mm = kNaN;
+    v.window_std_mm = kNaN;
+    if (scan.no_echo[b]) {
+      v.raw_mm = kNaN;
+      v.flags |= ipc::kBeamNoEcho;
+      continue;
+    }
+    const double y = scan.ranges_mm[b];
+    if (!std::isfinite(y)) {
+      throw core::InvalidInput("scan " + std::to_string(scan.device_sequence) + ", beam " +
+                               std::to_string(b) + ": range is not finite");
+    }
+    v.raw_mm = y;
+    if (!compensating) continue;
+    const double corrected = y - bias;
+    const core::WindowEstimate e = windows_[b].add(corrected);
+    v.most_probable_mode = static_cast<std::uint8_t>(e.most_probable_mode);
+    for (int i = 0; i < modes->modes(); ++i) {
+      v.mode_posterior[static_cast<std::size_t>(i)] = static_cast<float>(e.posterior[i]);
+    }
+    v.compensated_mm = corrected - modes->mean[e.most_probable_mode];
+    if (e.restarting) {
+      v.flags |= ipc::kBeamWindowRestarting;
+    } else {
+      v.window_mm = e.distance;
+      v.window_std_mm = e.distance_std;
+    }
+    if (e.change_detected) v.flags |= ipc::kBeamChangeDetected;
+  }
+  return out;
+}
+
+}  // namespace tofcomp::realtime

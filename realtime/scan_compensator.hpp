@@ -1,0 +1,49 @@
+// The compensation of one scan, beam by beam (Eq. 8 and §6 in real time): each range y of a
+// beam becomes y − H(t̂^j)θ̂ (the bias at the scan's junction temperature, one value for the
+// whole scan), fed to the beam's sliding-window EM estimator (core/sliding_window_estimator.hpp)
+// for d̂ and its standard deviation, and published compensated by its most probable mode:
+// y − H(t̂^j)θ̂ − μ_î. Ranges with no echo are published as such and do not enter the window.
+// Without a calibration or a junction temperature the raw ranges are published with the flag
+// that says why, and nothing else (never a NaN where a number is expected: the flag marks it).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/sliding_window_estimator.hpp"
+#include "io/calibration_file.hpp"
+#include "ipc/compensated_scan.hpp"
+#include "realtime/junction_tracker.hpp"
+#include "realtime/raw_scan.hpp"
+
+namespace tofcomp::realtime {
+
+class ScanCompensator {
+ public:
+  explicit ScanCompensator(core::SlidingWindowOptions window = {});
+
+  // A new calibration (id > 0, increasing): every beam's window restarts under its modes.
+  // Throws core::InvalidInput when the model is invalid or has more modes than the published
+  // record carries (ipc::kMaxModes).
+  void set_calibration(std::shared_ptr<const io::Calibration> calibration, std::uint32_t id);
+  void clear_calibration();
+  // New window settings: every window restarts.
+  void set_window_options(const core::SlidingWindowOptions& window);
+  const io::Calibration* calibration() const { return calibration_.get(); }
+
+  // sequence: the published scan counter. Throws core::InvalidInput when ranges_mm and no_echo
+  // differ in length or a range with an echo is not finite.
+  ipc::CompensatedScan compensate(const RawScan& scan, const JunctionEstimate& junction,
+                                  std::uint64_t sequence);
+
+ private:
+  void rebuild_windows(std::size_t beams);
+
+  core::SlidingWindowOptions window_options_;
+  std::shared_ptr<const io::Calibration> calibration_;
+  std::uint32_t calibration_id_ = 0;
+  std::vector<core::SlidingWindowEstimator> windows_;  // one per beam, when calibrated
+};
+
+}  // namespace tofcomp::realtime

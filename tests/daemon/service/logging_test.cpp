@@ -1,0 +1,180 @@
+// configure_logging and its parts: level and target names, systemd's JOURNAL_STREAM rule, and
+// what reaches stderr.
+#include "daemon/service/logging.hpp"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <spdlog/sinks/systemd_sink.h>
+#include <spdlog/spdlog.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "tests/daemon/service/environment_guard.hpp"
+#include "tests/daemon/service/temporary_directory.hpp"
+
+namespace tofcomp::daemon::service {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string device_inode_of(int fd) {
+  struct stat st {};
+  EXPECT_EQ(::fstat(fd, &st), 0);
+  return std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+}
+
+std::string read_all(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Points the process's stderr (fd 2) at a file for the guard's lifetime.
+class StderrToFile {
+ public:
+  explicit StderrToFile(const fs::path& file) : file_(file) {
+    std::fflush(stderr);
+    saved_ = ::dup(STDERR_FILENO);
+    const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    EXPECT_GE(fd, 0) << file;
+    ::dup2(fd, STDERR_FILENO);
+    ::close(fd);
+  }
+  StderrToFile(const StderrToFile&) = delete;
+  StderrToFile& operator=(const StderrToFile&) = delete;
+  ~StderrToFile() {
+    std::fflush(stderr);
+    ::dup2(saved_, STDERR_FILENO);
+    ::close(saved_);
+  }
+
+ private:
+  fs::path file_;
+  int saved_ = -1;
+};
+
+TEST(LogLevelNames, EveryLevelSpdlogKnows) {
+  EXPECT_EQ(parse_log_level("trace"), spdlog::level::trace);
+  EXPECT_EQ(parse_log_level("debug"), spdlog::level::debug);
+  EXPECT_EQ(parse_log_level("info"), spdlog::level::info);
+  EXPECT_EQ(parse_log_level("warn"), spdlog::level::warn);
+  EXPECT_EQ(parse_log_level("warning"), spdlog::level::warn);
+  EXPECT_EQ(parse_log_level("error"), spdlog::level::err);
+  EXPECT_EQ(parse_log_level("err"), spdlog::level::err);
+  EXPECT_EQ(parse_log_level("critical"), spdlog::level::critical);
+  EXPECT_EQ(parse_log_level("off"), spdlog::level::off);
+  EXPECT_EQ(parse_log_level("Warning"), spdlog::level::warn);
+}
+
+TEST(LogLevelNames, AnUnknownNameIsAnErrorNamingIt) {
+  for (const std::string bad : {"verbose", "", "inf", "info "}) {
+    try {
+      (void)parse_log_level(bad);
+      ADD_FAILURE() << "no error for '" << bad << "'";
+    } catch (const core::InvalidInput& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("'" + bad + "'"), std::string::npos) << what;
+      EXPECT_NE(what.find("trace, debug, info"), std::string::npos) << what;
+    }
+  }
+}
+
+TEST(LogTargetNames, KnownAndUnknown) {
+  EXPECT_EQ(parse_log_target("auto"), LogTarget::Auto);
+  EXPECT_EQ(parse_log_target("journal"), LogTarget::Journal);
+  EXPECT_EQ(parse_log_target("stderr"), LogTarget::Stderr);
+  EXPECT_EQ(parse_log_target("Journal"), LogTarget::Journal);
+  try {
+    (void)parse_log_target("syslog");
+    FAIL() << "no error";
+  } catch (const core::InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("'syslog'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(JournalStreamRule, MatchesOnlyTheStreamsOwnDeviceAndInode) {
+  const test_support::TemporaryDirectory directory;
+  const fs::path file = directory / "journal_stream_rule.txt";
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  ASSERT_GE(fd, 0);
+  struct stat st {};
+  ASSERT_EQ(::fstat(fd, &st), 0);
+  const std::string device = std::to_string(st.st_dev);
+  const std::string inode = std::to_string(st.st_ino);
+
+  EXPECT_TRUE(stream_is_journal((device + ":" + inode).c_str(), fd));
+  EXPECT_FALSE(stream_is_journal((device + ":" + std::to_string(st.st_ino + 1)).c_str(), fd));
+  EXPECT_FALSE(stream_is_journal((std::to_string(st.st_dev + 1) + ":" + inode).c_str(), fd));
+  EXPECT_FALSE(stream_is_journal(nullptr, fd));
+  for (const std::string& bad : std::vector<std::string>{
+           "", ":", device + ":", ":" + inode, device + inode, device + ":" + inode + ":1",
+           device + ":" + inode + " ", "-" + device + ":" + inode, "0x1:0x2"}) {
+    EXPECT_FALSE(stream_is_journal(bad.c_str(), fd)) << "'" << bad << "'";
+  }
+  ::close(fd);
+  // A descriptor that is not open matches nothing.
+  EXPECT_FALSE(stream_is_journal((device + ":" + inode).c_str(), fd));
+}
+
+TEST(JournalStreamRule, AutoFollowsStderr) {
+  test_support::EnvironmentGuard environment;
+  const test_support::TemporaryDirectory directory;
+  const fs::path file = directory / "auto_stderr.txt";
+  StderrToFile redirect(file);
+  const std::string ours = device_inode_of(STDERR_FILENO);
+
+  environment.set("JOURNAL_STREAM", ours);
+  EXPECT_EQ(resolve_log_target(LogTarget::Auto), LogTarget::Journal);
+  EXPECT_EQ(resolve_log_target(LogTarget::Stderr), LogTarget::Stderr);
+
+  // Inherited from a parent whose stderr went to the journal, but ours goes elsewhere now.
+  environment.set("JOURNAL_STREAM", ours + "1");
+  EXPECT_EQ(resolve_log_target(LogTarget::Auto), LogTarget::Stderr);
+  EXPECT_EQ(resolve_log_target(LogTarget::Journal), LogTarget::Journal);
+
+  environment.unset("JOURNAL_STREAM");
+  EXPECT_EQ(resolve_log_target(LogTarget::Auto), LogTarget::Stderr);
+}
+
+TEST(ConfigureLogging, StderrGetsMessagesAtOrAboveTheLevel) {
+  test_support::EnvironmentGuard environment;
+  environment.unset("JOURNAL_STREAM");
+  const test_support::TemporaryDirectory directory;
+  const fs::path file = directory / "configure_logging_stderr.txt";
+  {
+    StderrToFile redirect(file);
+    EXPECT_EQ(configure_logging(LogTarget::Auto, spdlog::level::info), LogTarget::Stderr);
+    spdlog::debug("a debug line that the info level hides");
+    spdlog::info("calibration loaded from {}", "/etc/tofcompd/calibration.yaml");
+    spdlog::warn("sensor silent for {} s", 3);
+    spdlog::default_logger()->flush();
+  }
+  const std::string text = read_all(file);
+  EXPECT_EQ(text.find("debug line"), std::string::npos) << text;
+  EXPECT_NE(text.find(" info calibration loaded from /etc/tofcompd/calibration.yaml\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find(" warning sensor silent for 3 s\n"), std::string::npos) << text;
+  EXPECT_EQ(spdlog::default_logger()->name(), "tofcompd");
+}
+
+TEST(ConfigureLogging, JournalTargetUsesTheJournalSink) {
+  EXPECT_EQ(configure_logging(LogTarget::Journal, spdlog::level::debug), LogTarget::Journal);
+  const auto logger = spdlog::default_logger();
+  ASSERT_EQ(logger->sinks().size(), 1u);
+  EXPECT_NE(std::dynamic_pointer_cast<spdlog::sinks::systemd_sink_mt>(logger->sinks().front()),
+            nullptr);
+  EXPECT_EQ(logger->level(), spdlog::level::debug);
+}
+
+}  // namespace
+}  // namespace tofcomp::daemon::service

@@ -1,0 +1,118 @@
+// The server's limits: an over-long request is answered too_long and its connection closed
+// cleanly after the answer; clients beyond max_clients get an error line and are closed.
+#include <gtest/gtest.h>
+
+#include "ipc/socket/client.hpp"
+#include "tests/daemon/socket/server_harness.hpp"
+
+namespace tofcomp::test {
+namespace {
+
+using namespace std::chrono_literals;
+using ipc::socket::SocketClient;
+using ipc::socket::SocketClosed;
+using nlohmann::json;
+
+constexpr auto kTimeout = 30s;
+
+json read_json(SocketClient& client) {
+  const auto line = client.read_line(kTimeout);
+  if (!line) throw std::runtime_error("no line within the timeout");
+  return json::parse(*line);
+}
+
+// The next read ends the stream: end of file, not a reset.
+void expect_clean_close(SocketClient& client) {
+  try {
+    client.read_line(kTimeout);
+    ADD_FAILURE() << "the connection is still open";
+  } catch (const SocketClosed& e) {
+    EXPECT_NE(std::string(e.what()).find("closed the connection"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ServerLimits, RequestWithoutLineEndBeyondTheLimitIsTooLongThenClosed) {
+  SocketHarness h;
+  h.start_server();
+  SocketClient other(h.path(), kTimeout);
+  SocketClient client(h.path(), kTimeout);
+  client.send_bytes(std::string(10000, 'a'));
+  EXPECT_EQ(read_json(client),
+            json::parse(R"j({"ok":false,"error":{"code":"too_long","message":)j"
+                        R"j("request: more than 4096 bytes without a line end (the limit of a )j"
+                        R"j(request)"}})j"));
+  expect_clean_close(client);
+  EXPECT_TRUE(other.call({{"op", "status"}}, kTimeout)["ok"]);
+  EXPECT_EQ(h.counters().errors, 1u);
+}
+
+TEST(ServerLimits, CompleteLineBeyondTheLimitIsTooLongThenClosed) {
+  SocketHarness h;
+  h.start_server();
+  SocketClient client(h.path(), kTimeout);
+  const std::string line = R"({"op":"status","id":")" + std::string(5000, 'i') + "\"}";
+  client.send_line(line);
+  const json reply = read_json(client);
+  EXPECT_EQ(reply["error"]["code"], "too_long");
+  EXPECT_EQ(reply["error"]["message"], "request: " + std::to_string(line.size()) +
+                                           " bytes, more than the limit of 4096 bytes");
+  expect_clean_close(client);
+}
+
+TEST(ServerLimits, RequestsBeforeTheOverLongOneAreAnswered) {
+  SocketHarness h;
+  h.start_server();
+  SocketClient client(h.path(), kTimeout);
+  client.send_bytes("{\"id\":1,\"op\":\"status\"}\n" + std::string(9000, '{'));
+  EXPECT_EQ(read_json(client)["id"], 1);
+  EXPECT_EQ(read_json(client)["error"]["code"], "too_long");
+  expect_clean_close(client);
+}
+
+TEST(ServerLimits, ClientsBeyondMaxClientsGetAnErrorLineAndAreClosed) {
+  sock::SocketServerSettings settings;
+  settings.max_clients = 2;
+  SocketHarness h(settings);
+  h.start_server();
+  auto a = std::make_unique<SocketClient>(h.path(), kTimeout);
+  SocketClient b(h.path(), kTimeout);
+  EXPECT_TRUE(a->call({{"op", "status"}}, kTimeout)["ok"]);
+  EXPECT_TRUE(b.call({{"op", "status"}}, kTimeout)["ok"]);
+  SocketClient c(h.path(), kTimeout);
+  EXPECT_EQ(read_json(c),
+            json::parse(R"j({"ok":false,"error":{"code":"unavailable","message":)j"
+                        R"j("connection: too many clients; 2 are connected, the most the daemon )j"
+                        R"j(serves (max_clients)"}})j"));
+  expect_clean_close(c);
+  EXPECT_EQ(h.counters().refused_clients, 1u);
+  a.reset();
+  ASSERT_TRUE(h.wait_for_counters([](const auto& k) { return k.clients == 1; }));
+  SocketClient d(h.path(), kTimeout);
+  EXPECT_TRUE(d.call({{"op", "status"}}, kTimeout)["ok"]);
+  EXPECT_EQ(h.counters().clients, 2u);
+}
+
+TEST(ServerLimits, SettingsAreValidatedNamingTheSetting) {
+  boost::asio::io_context io;
+  FakeDaemon daemon;
+  sock::SocketServerSettings s;
+  s.max_clients = 0;
+  try {
+    sock::SocketServer server(io, s, daemon);
+    FAIL();
+  } catch (const core::InvalidInput& e) {
+    EXPECT_STREQ(e.what(), "socket server: max_clients: must be at least 1");
+  }
+  s = {};
+  s.path = std::string(120, 'p');
+  EXPECT_THROW(sock::SocketServer(io, s, daemon), core::InvalidInput);
+  s = {};
+  s.max_request_bytes = 10;
+  EXPECT_THROW(sock::SocketServer(io, s, daemon), core::InvalidInput);
+  s = {};
+  s.permissions = 01777;
+  EXPECT_THROW(sock::SocketServer(io, s, daemon), core::InvalidInput);
+}
+
+}  // namespace
+}  // namespace tofcomp::test

@@ -1,0 +1,67 @@
+#include "realtime/junction_tracker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "tests/realtime/realtime_examples.hpp"
+
+namespace tofcomp::realtime {
+namespace {
+
+// At rest with the laser on (Eq. 3 at steady state) the case is P·R2 = 12 K above the 22 °C
+// ambient and the junction P·R1 = 6 K above the case.
+TEST(JunctionTracker, SteadyStateIsCasePlusPowerTimesR1) {
+  JunctionTracker tracker(testing::round_calibration());
+  EXPECT_FALSE(tracker.at(0.0).valid);
+  // The case held at its steady state for 10 time constants (64 s each), read once a second.
+  for (int s = 0; s <= 640; ++s) tracker.add_case_reading(s, 34.0);
+  const JunctionEstimate e = tracker.at(640.5);
+  ASSERT_TRUE(e.valid);
+  EXPECT_NEAR(e.junction_c, 40.0, 0.05);
+  EXPECT_GT(e.junction_std_c, 0.0);
+  EXPECT_LT(e.junction_std_c, 0.5);
+  EXPECT_DOUBLE_EQ(e.case_c, 34.0);
+  EXPECT_FALSE(e.stale);
+}
+
+// With the laser off the scanner cools to the ambient, the junction with it.
+TEST(JunctionTracker, PowerOffSettlesOnTheCase) {
+  JunctionTracker tracker(testing::round_calibration());
+  tracker.set_power(0.0, false);
+  for (int s = 0; s <= 640; ++s) tracker.add_case_reading(s, 22.0);
+  EXPECT_NEAR(tracker.at(640.0).junction_c, 22.0, 0.05);
+  // Power back on: the junction rises towards case + 6 K with its own time constant
+  // (≈ 6 s here), so 3 s later it is part of the way up.
+  tracker.set_power(640.0, true);
+  const double after = tracker.at(643.0).junction_c;
+  EXPECT_GT(after, 23.0);
+  EXPECT_LT(after, 27.5);
+}
+
+TEST(JunctionTracker, StaleAfterTheConfiguredSilence) {
+  JunctionTrackerSettings settings;
+  settings.stale_after_s = 5.0;
+  JunctionTracker tracker(testing::round_calibration(), settings);
+  tracker.add_case_reading(10.0, 25.0);
+  EXPECT_FALSE(tracker.at(14.9).stale);
+  EXPECT_TRUE(tracker.at(15.1).stale);
+  EXPECT_TRUE(tracker.at(15.1).valid);  // still a prediction of the model
+  // A late reading (older than the filter) is taken at the filter's time, not refused.
+  tracker.add_case_reading(12.0, 25.0);
+  tracker.add_case_reading(9.0, 25.0);
+  EXPECT_FALSE(tracker.at(16.0).stale);
+}
+
+TEST(JunctionTracker, RefusesNonFiniteInput) {
+  JunctionTracker tracker(testing::round_calibration());
+  EXPECT_THROW(tracker.add_case_reading(0.0, NAN), core::InvalidInput);
+  EXPECT_THROW(tracker.add_case_reading(INFINITY, 20.0), core::InvalidInput);
+  JunctionTrackerSettings bad;
+  bad.stale_after_s = 0.0;
+  EXPECT_THROW(JunctionTracker(testing::round_calibration(), bad), core::InvalidInput);
+}
+
+}  // namespace
+}  // namespace tofcomp::realtime

@@ -1,0 +1,148 @@
+#include "realtime/scan_compensator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "tests/realtime/realtime_examples.hpp"
+
+namespace tofcomp::realtime {
+namespace {
+
+JunctionEstimate junction_at(double t) {
+  JunctionEstimate j;
+  j.valid = true;
+  j.junction_c = t;
+  j.junction_std_c = 0.1;
+  j.case_c = t - 6.0;
+  return j;
+}
+
+core::SlidingWindowOptions incremental() {
+  core::SlidingWindowOptions o;
+  o.method = core::WindowEm::Incremental;
+  return o;
+}
+
+// Ranges drawn from Eq. 8 with d = 3000 mm on beam 0 and 1500 mm on beam 2 at a junction of
+// 26 °C (bias 13 mm): the compensated ranges are d plus the noise within its mode, and each
+// beam's window estimates its own d.
+TEST(ScanCompensator, RemovesTheBiasAndTheModeOffset) {
+  const auto calibration = std::make_shared<io::Calibration>(testing::round_calibration());
+  ASSERT_DOUBLE_EQ(calibration->model.bias_at(26.0), 13.0);  // H(t)θ = 0.5 t
+  ScanCompensator compensator(incremental());
+  compensator.set_calibration(calibration, 1);
+  const auto draw = [&](double d, unsigned seed) {
+    return testing::draw_measurements(
+        Eigen::VectorXd::Constant(2000, 26.0), d, [](double t) { return 0.5 * t; },
+        calibration->model.noise, seed);
+  };
+  const auto wall = draw(3000.0, 1);
+  const auto near = draw(1500.0, 2);
+  double sum_error = 0.0;
+  int correct_modes = 0;
+  ipc::CompensatedScan last;
+  for (Eigen::Index k = 0; k < 2000; ++k) {
+    RawScan scan;
+    scan.ranges_mm = {wall.range[k], 0.0, near.range[k]};
+    scan.no_echo = {0, 1, 0};
+    last = compensator.compensate(scan, junction_at(26.0), static_cast<std::uint64_t>(k));
+    const ipc::BeamValue& b = last.beams[0];
+    EXPECT_EQ(b.flags & ipc::kBeamNoEcho, 0);
+    EXPECT_EQ(last.beams[1].flags & ipc::kBeamNoEcho, ipc::kBeamNoEcho);
+    EXPECT_TRUE(std::isnan(last.beams[1].compensated_mm));
+    EXPECT_DOUBLE_EQ(b.raw_mm, wall.range[k]);
+    EXPECT_NEAR(b.mode_posterior[0] + b.mode_posterior[1], 1.0f, 1e-6f);
+    correct_modes += b.most_probable_mode == wall.mode[k];
+    sum_error += b.compensated_mm - 3000.0;
+  }
+  // The modes are 4.5 standard deviations apart: most ranges are given their own mode, and
+  // the compensated ranges average to d.
+  EXPECT_GT(correct_modes, 1900);
+  EXPECT_NEAR(sum_error / 2000, 0.0, 0.1);
+  EXPECT_NEAR(last.beams[0].window_mm, 3000.0, 4 * last.beams[0].window_std_mm);
+  EXPECT_NEAR(last.beams[2].window_mm, 1500.0, 4 * last.beams[2].window_std_mm);
+  EXPECT_LT(last.beams[0].window_std_mm, 0.2);
+  EXPECT_EQ(last.calibration_id, 1u);
+  EXPECT_EQ(last.beams[0].mode_count, 2);
+  EXPECT_DOUBLE_EQ(last.junction_c, 26.0);
+}
+
+// Without a calibration, or before any case reading, only the raw ranges are published, with
+// the flag that says why; the windows start when both are there.
+TEST(ScanCompensator, FlagsWhatIsMissing) {
+  ScanCompensator compensator(incremental());
+  RawScan scan;
+  scan.ranges_mm = {3000.0};
+  scan.no_echo = {0};
+  ipc::CompensatedScan out = compensator.compensate(scan, junction_at(26.0), 0);
+  EXPECT_EQ(out.beams[0].flags, ipc::kBeamUncalibrated);
+  EXPECT_TRUE(std::isnan(out.beams[0].compensated_mm));
+  EXPECT_EQ(out.calibration_id, 0u);
+
+  compensator.set_calibration(std::make_shared<io::Calibration>(testing::round_calibration()), 7);
+  out = compensator.compensate(scan, JunctionEstimate{}, 1);
+  EXPECT_EQ(out.beams[0].flags, ipc::kBeamTemperatureStale);
+  EXPECT_TRUE(std::isnan(out.junction_c));
+  EXPECT_TRUE(std::isnan(out.beams[0].compensated_mm));
+
+  out = compensator.compensate(scan, junction_at(26.0), 2);
+  EXPECT_EQ(out.beams[0].flags, ipc::kBeamWindowRestarting);
+  EXPECT_DOUBLE_EQ(out.beams[0].compensated_mm, 3000.0 - 13.0 - (-2.0));
+  EXPECT_TRUE(std::isnan(out.beams[0].window_mm));
+  EXPECT_EQ(out.calibration_id, 7u);
+
+  JunctionEstimate stale = junction_at(26.0);
+  stale.stale = true;
+  out = compensator.compensate(scan, stale, 3);
+  EXPECT_TRUE(out.beams[0].flags & ipc::kBeamTemperatureStale);
+  EXPECT_FALSE(std::isnan(out.beams[0].compensated_mm));  // still compensated, by prediction
+}
+
+// An object steps in front of the wall: the beam's window restarts on it.
+TEST(ScanCompensator, FlagsAChangeOfScene) {
+  const auto calibration = std::make_shared<io::Calibration>(testing::round_calibration());
+  ScanCompensator compensator(incremental());
+  compensator.set_calibration(calibration, 1);
+  const auto wall = testing::draw_measurements(
+      Eigen::VectorXd::Constant(500, 26.0), 3000.0, [](double t) { return 0.5 * t; },
+      calibration->model.noise, 5);
+  const auto object = testing::draw_measurements(
+      Eigen::VectorXd::Constant(300, 26.0), 2500.0, [](double t) { return 0.5 * t; },
+      calibration->model.noise, 6);
+  int changes = 0;
+  ipc::CompensatedScan out;
+  for (Eigen::Index k = 0; k < 800; ++k) {
+    RawScan scan;
+    scan.ranges_mm = {k < 500 ? wall.range[k] : object.range[k - 500]};
+    scan.no_echo = {0};
+    out = compensator.compensate(scan, junction_at(26.0), static_cast<std::uint64_t>(k));
+    if (out.beams[0].flags & ipc::kBeamChangeDetected) {
+      ++changes;
+      EXPECT_GE(k, 500);
+      EXPECT_LE(k, 503);
+    }
+  }
+  EXPECT_EQ(changes, 1);
+  EXPECT_NEAR(out.beams[0].window_mm, 2500.0, 4 * out.beams[0].window_std_mm);
+}
+
+TEST(ScanCompensator, RefusesWhatItCannotUse) {
+  ScanCompensator compensator;
+  io::Calibration five = testing::round_calibration();
+  five.model.noise =
+      testing::mixture({-4.0, -2.0, 0.0, 2.0, 4.0}, {1, 1, 1, 1, 1}, {0.2, 0.2, 0.2, 0.2, 0.2});
+  EXPECT_THROW(compensator.set_calibration(std::make_shared<io::Calibration>(five), 1),
+               core::InvalidInput);
+  RawScan scan;
+  scan.ranges_mm = {1.0, 2.0};
+  scan.no_echo = {0};
+  EXPECT_THROW(compensator.compensate(scan, junction_at(26.0), 0), core::InvalidInput);
+  scan.no_echo = {0, 0};
+  scan.ranges_mm[1] = NAN;
+  EXPECT_THROW(compensator.compensate(scan, junction_at(26.0), 0), core::InvalidInput);
+}
+
+}  // namespace
+}  // namespace tofcomp::realtime
