@@ -7,6 +7,7 @@
 #include <ctime>
 
 #include "cli/command.hpp"
+#include "io/measurement_csv.hpp"
 #include "sim/lms200/emulator.hpp"
 #include "sim/scenario_yaml.hpp"
 
@@ -16,6 +17,7 @@ namespace {
 
 struct EmulateOptions {
   std::string scenario;
+  std::string recording;
   std::string link;
   double time_scale = 1.0;
   double fault_rate = 0.0;
@@ -58,6 +60,10 @@ CommandResult emulate(const EmulateOptions& o, const CommonOptions& common) {
   settings.fault_seed = o.fault_seed;
   settings.link = o.link;
   settings.identity.supports_500k = !o.rs232;
+  if (!o.recording.empty()) {
+    settings.recording = io::read_measurements_file(o.recording);
+    settings.recording_source = o.recording;
+  }
   StopSignal stop;
   sim::lms200::Emulator emulator(settings);
   emulator.start();
@@ -104,6 +110,10 @@ void register_emulate(CLI::App& app, const CommonOptions& common, CommandRunner&
   auto o = std::make_shared<EmulateOptions>();
   cmd->add_option("scenario", o->scenario, "Scenario YAML file")
       ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--recording", o->recording,
+                  "Play this tofcompd recording instead of the twin (the scenario still gives "
+                  "the device); the host must ask for the recorded variant")
       ->check(CLI::ExistingFile);
   cmd->add_option("--link", o->link,
                   "Also publish the device at this path (a symlink, kept across hang-ups)");

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <csignal>
 
 #include "core/error.hpp"
@@ -41,6 +42,20 @@ Daemon::~Daemon() {
 
 double Daemon::now_s(Clock::time_point t) const {
   return std::chrono::duration<double>(t - start_).count();
+}
+
+// The pipeline's time of an event: its own time, or the last event's if that is later (a case
+// reading is stamped when its read returned, and may reach the loop after a later scan). The
+// pipeline and the recording then see time run forwards only.
+double Daemon::event_time(Clock::time_point t) {
+  last_event_time_s_ = std::max(now_s(t), last_event_time_s_);
+  return last_event_time_s_;
+}
+
+void Daemon::stop_recording(const std::string& why) {
+  ++counters_.recording_errors;
+  spdlog::error("recording stopped: {}", why);
+  recorder_.reset();
 }
 
 // Swaps a calibration in (on the loop, between two scans: no scan is lost or mixed).
@@ -134,7 +149,16 @@ int Daemon::run() {
       config_.recalibration.source == config::RecalibrationSource::Recording) {
     start_recalibration(config_.recalibration.data);
   }
-  io_.run();
+  // A handler that throws is a bug: it is logged and the loop goes on, so one bad event never
+  // stops the service.
+  for (;;) {
+    try {
+      io_.run();
+      break;
+    } catch (const std::exception& e) {
+      spdlog::error("event loop: {}", e.what());
+    }
+  }
   notifier_.stopping();
   driver_->stop();
   sensor_->stop();
@@ -189,8 +213,16 @@ void Daemon::on_power(double time_s, bool on) {
   if (power_on_ == on) return;
   power_on_ = on;
   ++counters_.power_changes;
-  pipeline_.on_power(time_s, on);
-  if (recorder_) recorder_->power(time_s, on);
+  const double t = std::max(time_s, last_event_time_s_);
+  last_event_time_s_ = t;
+  pipeline_.on_power(t, on);
+  if (recorder_) {
+    try {
+      recorder_->power(t, on);
+    } catch (const core::Error& e) {
+      stop_recording(e.what());
+    }
+  }
   spdlog::info("scanner power {}", on ? "on" : "off");
 }
 
@@ -203,9 +235,15 @@ void Daemon::on_reading(Clock::time_point when, const hal::TemperatureReading& r
   }
   ++counters_.readings_valid;
   sensor_state_ = "valid";
-  const double t = now_s(when);
+  const double t = event_time(when);
   pipeline_.on_case_reading(t, r.celsius);
-  if (recorder_) recorder_->case_reading(t, r.celsius);
+  if (recorder_) {
+    try {
+      recorder_->case_reading(t, r.celsius);
+    } catch (const core::Error& e) {
+      stop_recording(e.what());
+    }
+  }
 }
 
 void Daemon::on_link_state(hal::lms2xx::LinkState state, const std::string& why) {
@@ -219,7 +257,12 @@ void Daemon::on_link_state(hal::lms2xx::LinkState state, const std::string& why)
 
 void Daemon::on_scan(const hal::lms2xx::HostScan& host) {
   ++counters_.scans_in;
-  const double t = now_s(host.received);
+  // Scans that arrived in one read share a timestamp; each gets a time of its own, so that a
+  // recording keeps them apart (realtime/recording_replay.hpp).
+  double t = event_time(host.received);
+  if (t <= last_scan_time_s_) t = std::nextafter(last_scan_time_s_, INFINITY);
+  last_scan_time_s_ = t;
+  last_event_time_s_ = t;
   // A scan proves the scanner is powered, whatever the last sense said.
   if (power_on_ == false) on_power(t, true);
   realtime::RawScan raw = to_raw_scan(host, config_.link.variant, t);
@@ -235,9 +278,7 @@ void Daemon::on_scan(const hal::lms2xx::HostScan& host) {
     try {
       recorder_->scan(raw);
     } catch (const core::Error& e) {
-      ++counters_.recording_errors;
-      spdlog::error("{}; recording stopped", e.what());
-      recorder_.reset();
+      stop_recording(e.what());
     }
   }
   ring_->publish(out);

@@ -64,6 +64,8 @@ class Daemon : public socket::SocketRequestHandler {
 
  private:
   double now_s(std::chrono::steady_clock::time_point t) const;
+  double event_time(std::chrono::steady_clock::time_point t);
+  void stop_recording(const std::string& why);
   void start_parts();
   void on_scan(const hal::lms2xx::HostScan& scan);
   void on_reading(std::chrono::steady_clock::time_point when, const hal::TemperatureReading& r);
@@ -97,6 +99,8 @@ class Daemon : public socket::SocketRequestHandler {
 
   std::optional<ipc::CompensatedScan> latest_;
   std::optional<bool> power_on_;
+  double last_scan_time_s_ = -1.0;
+  double last_event_time_s_ = 0.0;
   std::string link_state_ = "starting";
   std::string sensor_state_ = "no reading yet";
   std::string last_reload_ = "none";

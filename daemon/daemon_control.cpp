@@ -74,7 +74,6 @@ nlohmann::json Daemon::stats() {
                {"crc_errors", d.decoder.crc_errors},
                {"garbage_bytes", d.decoder.garbage_bytes},
                {"truncated", d.decoder.truncated}};
-  s["socket"] = socket::to_json(server_->counters());
   s["shm"] = {{"name", ring_->name()}, {"published", ring_->published()}};
   if (recorder_) {
     const auto& r = recorder_->counters();
@@ -145,11 +144,15 @@ socket::ReloadResult Daemon::reload() {
 socket::RecalibrationResult Daemon::recalibrate(const nlohmann::json& args) {
   std::filesystem::path data = config_.recalibration.data;
   for (const auto& [key, value] : args.items()) {
-    if (key != "data") throw core::InvalidInput("args." + key + ": unknown; the one key is data");
+    if (key != "recording") {
+      throw core::InvalidInput("args." + key + ": unknown; the one argument is recording");
+    }
     if (!value.is_string() || value.get<std::string>().empty()) {
-      throw core::InvalidInput("args.data: expected the path of a recording (a string)");
+      throw core::InvalidInput("args.recording: expected the path of a recording (a string)");
     }
     data = value.get<std::string>();
+    // As in the configuration: a relative path is taken from the configuration's directory.
+    if (data.is_relative() && !config_file_.empty()) data = config_file_.parent_path() / data;
   }
   socket::RecalibrationResult r;
   if (worker_running_) {
@@ -159,7 +162,7 @@ socket::RecalibrationResult Daemon::recalibrate(const nlohmann::json& args) {
   switch (config_.recalibration.source) {
     case config::RecalibrationSource::None:
       r.message = "recalibration.source is none in " + config_.source +
-                  ": set it to recording (and recalibration.data) to recalibrate";
+                  ": set it to recording (and recalibration.recording.data) to recalibrate";
       return r;
     case config::RecalibrationSource::PowerCycleRun:
       r.message =
@@ -170,7 +173,7 @@ socket::RecalibrationResult Daemon::recalibrate(const nlohmann::json& args) {
       break;
   }
   if (data.empty()) {
-    r.message = "no recording to train on: set recalibration.data or pass args.data";
+    r.message = "no recording to train on: set recalibration.recording.data or pass args.recording";
     return r;
   }
   start_recalibration(data);

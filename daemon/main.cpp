@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
                 config::embedded_default_config_text().size(), stdout);
     return 0;
   }
+  bool logging = false;  // until then errors go to stderr alone
   try {
     const config::DaemonConfig cfg = config_file.empty() ? config::embedded_default_config()
                                                          : config::load_daemon_config(config_file);
@@ -47,15 +48,23 @@ int main(int argc, char** argv) {
       return 0;
     }
     service::configure_logging(cfg.log.target, cfg.log.level);
+    logging = true;
     spdlog::info("tofcompd {} starting with {}", TOFCOMP_VERSION, cfg.source);
     Daemon daemon(cfg, config_file);
     return daemon.run();
   } catch (const tofcomp::core::Error& e) {
-    std::fprintf(stderr, "tofcompd: %s\n", e.what());
-    spdlog::critical("cannot start: {}", e.what());
+    if (logging) {
+      spdlog::critical("cannot start: {}", e.what());
+    } else {
+      std::fprintf(stderr, "tofcompd: %s\n", e.what());
+    }
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "tofcompd: internal error: %s\n", e.what());
+    if (logging) {
+      spdlog::critical("internal error: {}", e.what());
+    } else {
+      std::fprintf(stderr, "tofcompd: internal error: %s\n", e.what());
+    }
     return 1;
   }
 }

@@ -11,19 +11,16 @@
 namespace tofcomp::realtime {
 namespace {
 
-struct Geometry {
-  std::size_t beams = 0;
-  double start_angle_deg = 0.0;
-  double resolution_deg = 0.0;
-};
-
 std::string shortest(double value) {
   char buffer[32];
   const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, r.ptr);
 }
 
-Geometry read_geometry(const io::MeasurementTable& table, const std::string& source) {
+}  // namespace
+
+RecordingGeometry read_recording_geometry(const io::MeasurementTable& table,
+                                          const std::string& source) {
   std::optional<double> beams, start, resolution;
   for (const io::MetadataLine& m : table.metadata) {
     double value = 0.0;
@@ -52,8 +49,6 @@ Geometry read_geometry(const io::MeasurementTable& table, const std::string& sou
   return {static_cast<std::size_t>(*beams), *start, *resolution};
 }
 
-}  // namespace
-
 std::vector<std::string> recording_columns() {
   return {"time_s", "range_mm", "beam", "case_temp_c", "power"};
 }
@@ -80,7 +75,7 @@ void append_scan_rows(const RawScan& scan, std::vector<io::MeasurementRow>& rows
 void replay_recording(const io::MeasurementTable& table, const std::string& source,
                       CompensationPipeline& pipeline,
                       const std::function<void(const ipc::CompensatedScan&)>& on_scan) {
-  const Geometry geometry = read_geometry(table, source);
+  const RecordingGeometry geometry = read_recording_geometry(table, source);
   RawScan scan;
   bool open = false;
   std::uint64_t scans = 0;

@@ -7,8 +7,10 @@
 // back exactly, so a replay takes the very numbers the daemon took.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "io/measurement_table.hpp"
@@ -19,6 +21,18 @@ namespace tofcomp::realtime {
 inline constexpr const char* kRecordingBeamsKey = "beams";
 inline constexpr const char* kRecordingStartAngleKey = "start_angle_deg";
 inline constexpr const char* kRecordingResolutionKey = "resolution_deg";
+
+// A recording's scan geometry, from its metadata lines.
+struct RecordingGeometry {
+  std::size_t beams = 0;
+  double start_angle_deg = 0.0;
+  double resolution_deg = 0.0;
+};
+
+// Throws core::InvalidInput naming `source` when a geometry line is missing or not a number, or
+// `beams` is not a whole number from 1 to 65535.
+RecordingGeometry read_recording_geometry(const io::MeasurementTable& table,
+                                          const std::string& source);
 
 // The columns and metadata of a recording of scans of this geometry.
 std::vector<std::string> recording_columns();

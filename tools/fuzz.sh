@@ -38,6 +38,6 @@ mkdir -p "$corpus"
 # The first byte of an input picks the parser's length limit (below 128: the default).
 printf '\001%s' '{"op":"latest","beams":[0,10],"id":1}' > "$corpus/latest"
 printf '\001%s' '{"op":"subscribe","every":5}' > "$corpus/subscribe"
-printf '\001%s' '{"op":"recalibrate","args":{"data":"run.csv"}}' > "$corpus/recalibrate"
+printf '\001%s' '{"op":"recalibrate","args":{"recording":"run.csv"}}' > "$corpus/recalibrate"
 printf '\377%s' '{"op":"status","id":"a"}' > "$corpus/status-short-limit"
 fuzz socket_request_fuzzer "$corpus" -max_len=4096

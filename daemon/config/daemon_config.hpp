@@ -47,7 +47,10 @@ struct LinkConfig {
 struct EmulatorConfig {
   bool enabled = false;
   std::filesystem::path scenario;  // a twin scenario (docs/scenarios.md); required when enabled
-  double time_scale = 1.0;         // twin seconds per wall second; 0: as fast as the host reads
+  // A tofcompd recording to play instead of the twin (docs/daemon.md); empty: the twin. The
+  // scenario still gives the device's identity and output.
+  std::filesystem::path recording;
+  double time_scale = 1.0;  // twin seconds per wall second; 0: as fast as the host reads
   sim::lms200::FaultRates faults;
   std::uint64_t fault_seed = 1;
   std::filesystem::path link;  // a stable symlink to the pty; empty: none

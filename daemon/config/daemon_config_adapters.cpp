@@ -2,6 +2,7 @@
 #include "daemon/config/daemon_config_adapters.hpp"
 
 #include "daemon/config/daemon_config_error.hpp"
+#include "io/measurement_csv.hpp"
 #include "sim/scenario_yaml.hpp"
 
 namespace tofcomp::daemon::config {
@@ -31,6 +32,15 @@ sim::lms200::EmulatorSettings emulator_settings(const DaemonConfig& config) {
   } catch (const core::Error& e) {
     throw DaemonConfigError(config.source + ": emulator.scenario (" + emulator.scenario.string() +
                             ") cannot be used: " + e.what());
+  }
+  if (!emulator.recording.empty()) {
+    try {
+      settings.recording = io::read_measurements_file(emulator.recording.string());
+      settings.recording_source = emulator.recording.string();
+    } catch (const core::Error& e) {
+      throw DaemonConfigError(config.source + ": emulator.recording (" +
+                              emulator.recording.string() + ") cannot be used: " + e.what());
+    }
   }
   settings.identity.supports_500k = !emulator.rs232;
   settings.time_scale = emulator.time_scale;

@@ -39,6 +39,7 @@ class RestartKeys {
   void emulator() {
     compare("emulator.enabled", [](const DaemonConfig& c) { return c.emulator.enabled; });
     compare("emulator.scenario", [](const DaemonConfig& c) { return c.emulator.scenario; });
+    compare("emulator.recording", [](const DaemonConfig& c) { return c.emulator.recording; });
     compare("emulator.time_scale", [](const DaemonConfig& c) { return c.emulator.time_scale; });
     compare("emulator.faults.garbage",
             [](const DaemonConfig& c) { return c.emulator.faults.garbage; });

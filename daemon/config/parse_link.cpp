@@ -81,11 +81,12 @@ void parse_faults(const io::YamlMap& map, sim::lms200::FaultRates& out) {
 void parse_emulator(const io::YamlMap& root, const ParseContext& context, EmulatorConfig& out) {
   const auto emulator = fields::section(
       root, "emulator",
-      {"enabled", "scenario", "time_scale", "faults", "fault_seed", "link", "rs232"});
+      {"enabled", "scenario", "recording", "time_scale", "faults", "fault_seed", "link", "rs232"});
   if (!emulator) return;
   out.enabled = emulator->boolean_or("enabled", out.enabled);
   out.scenario = out.enabled ? fields::required_path(*emulator, "scenario", context.base_directory)
                              : fields::path(*emulator, "scenario", context.base_directory, {});
+  out.recording = fields::path(*emulator, "recording", context.base_directory, {});
   out.time_scale = fields::number(*emulator, "time_scale", between(0, 1e6), out.time_scale);
   if (const auto faults = fields::section(*emulator, "faults",
                                           {"garbage", "dropped_byte", "corrupted_crc", "stall",

@@ -1,13 +1,16 @@
 #include "sim/lms200/emulator.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <boost/asio.hpp>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "core/error.hpp"
 #include "sim/lms200/pty_port.hpp"
+#include "sim/lms200/recording_playback.hpp"
 
 namespace tofcomp::sim::lms200 {
 
@@ -20,6 +23,21 @@ namespace {
 std::chrono::nanoseconds seconds(double s) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
 }
+
+// The recording's playback, when the settings hold one whose scans an LMS 200 variant carries.
+std::optional<RecordingPlayback> playback_of(const EmulatorSettings& settings) {
+  if (!settings.recording) return std::nullopt;
+  RecordingPlayback playback(*settings.recording, settings.recording_source);
+  for (const hal::lms2xx::Variant v :
+       {hal::lms2xx::Variant{100, 25}, hal::lms2xx::Variant{100, 50},
+        hal::lms2xx::Variant{100, 100}, hal::lms2xx::Variant{180, 50},
+        hal::lms2xx::Variant{180, 100}}) {
+    if (static_cast<std::size_t>(v.values_per_scan()) == playback.beams()) return playback;
+  }
+  throw core::InvalidInput(settings.recording_source + ": the recording's " +
+                           std::to_string(playback.beams()) +
+                           " beams match no LMS 200 variant (101, 181, 201, 361 or 401 values)");
+}
 }  // namespace
 
 class Emulator::Server {
@@ -27,6 +45,7 @@ class Emulator::Server {
   explicit Server(EmulatorSettings settings)
       : settings_(std::move(settings)),
         twin_(settings_.scenario),
+        recording_(playback_of(settings_)),
         device_(settings_.identity),
         injector_(settings_.faults, settings_.fault_seed) {
     if (settings_.time_scale < 0.0) {
@@ -41,11 +60,11 @@ class Emulator::Server {
 
   void start() {
     open_pty();
-    powered_ = twin_.power_on();
+    powered_ = recording_ ? recording_->power_on() : twin_.power_on();
     if (powered_) enqueue_send(device_.power_on_telegram());
     asio::co_spawn(io_, reader(generation_), failure_reporter("reader"));
     asio::co_spawn(io_, writer(), failure_reporter("writer"));
-    asio::co_spawn(io_, streamer(), failure_reporter("streamer"));
+    asio::co_spawn(io_, recording_ ? play_recording() : streamer(), failure_reporter("streamer"));
     thread_ = std::thread([this] { io_.run(); });
   }
 
@@ -78,12 +97,12 @@ class Emulator::Server {
 
   double read_case_sensor() {
     std::lock_guard lock(mutex_);
-    return twin_.read_case_sensor();
+    return recording_ ? recording_->read_case_sensor() : twin_.read_case_sensor();
   }
 
   double twin_time_s() const {
     std::lock_guard lock(mutex_);
-    return twin_.time_s();
+    return recording_ ? recording_->time_s() : twin_.time_s();
   }
 
   bool power_on() const { return powered_; }
@@ -93,8 +112,11 @@ class Emulator::Server {
 
  private:
   EmulatorSettings settings_;
-  mutable std::mutex mutex_;  // guards the twin, the device and the counters against readers
+  // Guards the twin, the recording, the device and the counters against readers.
+  mutable std::mutex mutex_;
   Twin twin_;
+  std::optional<RecordingPlayback> recording_;  // played instead of the twin when set
+  std::vector<RangeReading> recorded_scan_;     // the recorded scan due to be sent
   Lms200Device device_;
   FaultInjector injector_;
   EmulatorCounters counters_;
@@ -194,8 +216,12 @@ class Emulator::Server {
 
   std::vector<std::uint8_t> draw_scan(LinkFault* fault_slot, std::vector<RangeReading>& readings) {
     std::lock_guard lock(mutex_);
-    twin_.set_output(device_.scanner_output(settings_.scenario.scanner));
-    readings = twin_.scan();
+    if (recording_) {
+      readings = recorded_scan_;
+    } else {
+      twin_.set_output(device_.scanner_output(settings_.scenario.scanner));
+      readings = twin_.scan();
+    }
     static_cast<void>(fault_slot);
     return device_.scan_telegram(readings);
   }
@@ -238,7 +264,7 @@ class Emulator::Server {
         {
           std::lock_guard lock(mutex_);
           sent.sequence = counters_.scans_sent++;
-          sent.twin_time_s = twin_.time_s();
+          sent.twin_time_s = recording_ ? recording_->time_s() : twin_.time_s();
         }
         sent.readings = &readings;
         sent.units = device_.configuration().units();
@@ -293,6 +319,11 @@ class Emulator::Server {
       twin_.advance_to(twin_.time_s() + period_s);
       on = twin_.power_on();
     }
+    switch_power(on);
+  }
+
+  // Powers the device off or on (a restart, announced when on) when the state changes.
+  void switch_power(bool on) {
     if (on == powered_) return;
     powered_ = on;
     queue_.clear();
@@ -340,6 +371,66 @@ class Emulator::Server {
           enqueue(DeviceOutput{DeviceOutput::Action::SendScan, {}, 0});
         }
       }
+    }
+  }
+
+  // The streamer for a recording: steps the playback from event to event (scans, case
+  // readings, power changes) at their recorded times, scaled; at time_scale 0 as fast as the
+  // host reads, each scan held until the host streams and each event until the line is idle.
+  awaitable<void> play_recording() {
+    const Clock::time_point wall_start = Clock::now();
+    const double recording_start = recording_->time_s();
+    for (;;) {
+      std::optional<double> due;
+      {
+        std::lock_guard lock(mutex_);
+        due = recording_->next_event_time();
+        if (!due) counters_.playback_finished = true;
+      }
+      if (!due) {
+        co_await wait(wake_streamer_, std::chrono::hours(1));
+        continue;
+      }
+      if (settings_.time_scale > 0.0) {
+        const auto at = wall_start + seconds((*due - recording_start) / settings_.time_scale);
+        if (Clock::now() < at) {
+          co_await wait(wake_streamer_, at - Clock::now());
+          continue;  // maybe woken early by a request
+        }
+      } else if (!idle()) {
+        co_await wait(wake_streamer_, std::chrono::milliseconds(20));
+        continue;
+      }
+      bool on = false;
+      bool scan_due = false;
+      {
+        std::lock_guard lock(mutex_);
+        recording_->advance_to(std::max(*due, recording_->time_s()));
+        on = recording_->power_on();
+        const std::optional<double> next_scan = recording_->next_scan_time();
+        scan_due = next_scan && *next_scan <= recording_->time_s();
+      }
+      switch_power(on);
+      if (scan_due) co_await send_recorded_scan();
+    }
+  }
+
+  // Takes the next recorded scan and sends it if the device streams and the line is free; at
+  // time_scale 0 it waits for both first.
+  awaitable<void> send_recorded_scan() {
+    if (settings_.time_scale == 0.0) {
+      while (powered_ && !(device_.streaming() && idle() && rates_match())) {
+        co_await wait(wake_streamer_, std::chrono::milliseconds(20));
+      }
+    }
+    std::lock_guard lock(mutex_);
+    std::vector<RangeReading> scan = recording_->next_scan();
+    if (!powered_ || !device_.streaming()) co_return;
+    if (idle()) {
+      recorded_scan_ = std::move(scan);  // idle: the writer holds no scan it has yet to draw
+      enqueue(DeviceOutput{DeviceOutput::Action::SendScan, {}, 0});
+    } else {
+      ++counters_.scans_skipped;
     }
   }
 };

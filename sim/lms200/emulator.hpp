@@ -2,6 +2,13 @@
 // a host over a real pty, scans drawn from the digital twin in real time or faster, the link's
 // rate honoured (bytes at a rate other than the host's are lost, as on a real line), and faults
 // injected at configured rates. Runs its own thread; `tofcomp emulate` serves one until stopped.
+//
+// With a recording set, the device plays it (sim/lms200/recording_playback.hpp) instead of the
+// twin: each recorded scan is sent at its recorded time (scaled by time_scale), exactly as
+// recorded, and the case sensor, power sense and clock answer from the recording. The device
+// sends what the recording holds and does not resample: the host must configure the recorded
+// variant (the one whose values per scan equal the recording's `beams`), or it receives scans
+// of the wrong length. After the last scan the link stays up but no scan is sent.
 #pragma once
 
 #include <chrono>
@@ -9,10 +16,12 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "hal/lms2xx/commands.hpp"
+#include "io/measurement_table.hpp"
 #include "sim/lms200/device.hpp"
 #include "sim/lms200/fault_injector.hpp"
 #include "sim/scenario.hpp"
@@ -21,6 +30,8 @@
 namespace tofcomp::sim::lms200 {
 
 struct EmulatorSettings {
+  // The twin's experiment. Playing a recording, the twin is built but not played (the scenario
+  // must still be valid).
   Scenario scenario;
   DeviceIdentity identity;
   // Twin seconds per wall-clock second; 0 runs as fast as the host reads (no pacing at the
@@ -31,9 +42,14 @@ struct EmulatorSettings {
   // A stable path for hosts (a symlink to the current pty); empty: hosts use the pty's path.
   std::filesystem::path link;
   double restart_s = 0.1;  // wall-clock seconds from a reset to the power-on telegram
+  // A tofcompd recording to play instead of the twin, and its name for error messages. Its
+  // `beams` must be the values per scan of an LMS 200 variant (101, 181, 201, 361 or 401).
+  std::optional<io::MeasurementTable> recording;
+  std::string recording_source = "recording";
 };
 
-// A scan as the twin drew it and the device sent it (before any fault was applied to its bytes).
+// A scan as the twin drew it (or the recording held it) and the device sent it (before any fault
+// was applied to its bytes).
 struct SentScan {
   std::uint64_t sequence = 0;  // counts every scan sent, from 0
   double twin_time_s = 0.0;
@@ -50,7 +66,8 @@ struct EmulatorCounters {
   std::uint64_t naks_sent = 0;
   std::uint64_t bytes_lost_to_rate_mismatch = 0;
   InjectedFaults injected;
-  std::string failure;  // set when the emulator stopped on an error
+  std::string failure;             // set when the emulator stopped on an error
+  bool playback_finished = false;  // a recording was played to its end: no more scans come
 };
 
 class Emulator {
@@ -58,7 +75,8 @@ class Emulator {
   using ScanObserver = std::function<void(const SentScan&)>;
   using FaultObserver = std::function<void(LinkFault, std::chrono::steady_clock::time_point)>;
 
-  // Throws core::InvalidInput for a bad scenario or fault rates.
+  // Throws core::InvalidInput for a bad scenario, fault rates or recording (one whose beams
+  // match no LMS 200 variant).
   explicit Emulator(EmulatorSettings settings);
   ~Emulator();
   Emulator(const Emulator&) = delete;
@@ -76,10 +94,12 @@ class Emulator {
   std::string device_path() const;
   EmulatorCounters counters() const;
   // The case sensor on the twin's scanner, now (thread-safe): the simulated temperature backend.
+  // Playing a recording: the latest recorded reading.
   double read_case_sensor();
-  // The twin's clock, seconds since the scenario began.
+  // The twin's clock, seconds since the scenario began; playing a recording, its clock.
   double twin_time_s() const;
   // Whether the twin's scanner is powered now (thread-safe): the simulated power sense.
+  // Playing a recording: the recorded power state.
   bool power_on() const;
 
  private:

@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
+#include <optional>
 
 #include "daemon/config/daemon_config_yaml.hpp"
 #include "daemon/pipeline_setup.hpp"
+#include "io/calibration_file.hpp"
 #include "io/measurement_csv.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/socket/client.hpp"
@@ -41,6 +45,7 @@ std::string config_text(const std::filesystem::path& dir, const std::string& shm
          "    path: " +
          (dir / "tofcompd.sock").string() +
          "\n"
+         "    max_queued_bytes_per_client: 16777216\n"
          "  shm:\n"
          "    name: " +
          shm_name +
@@ -82,11 +87,18 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
 
   ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
-  const nlohmann::json ack = subscriber.request({{"op", "subscribe"}, {"id", 1}}, 10s);
+  // Beams 150 to 210 (61 of 361): the test's JSON parsing keeps up on a loaded machine.
+  const nlohmann::json ack =
+      subscriber.request({{"op", "subscribe"}, {"id", 1}, {"beams", {150, 210}}}, 10s);
   ASSERT_TRUE(ack.value("ok", false)) << ack.dump();
   std::map<std::uint64_t, nlohmann::json> received;
   while (received.size() < 150) {
-    const auto message = subscriber.read_message(30s);
+    std::optional<nlohmann::json> message;
+    try {
+      message = subscriber.read_message(30s);
+    } catch (const std::exception& e) {
+      FAIL() << e.what() << "\n" << daemon.log();
+    }
     ASSERT_TRUE(message.has_value()) << "no scan within 30 s\n" << daemon.log();
     const nlohmann::json& scan = scan_of(*message);
     received[scan.at("sequence").get<std::uint64_t>()] = scan;
@@ -100,7 +112,7 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   const auto latest = ring.latest();
   ASSERT_TRUE(latest.has_value());
   EXPECT_GE(latest->sequence, received.begin()->first);
-  EXPECT_EQ(latest->beams.size(), 361u);
+  EXPECT_EQ(latest->beams.size(), 361u);  // the ring holds every beam
 
   // A client's status request while streaming.
   ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
@@ -115,7 +127,12 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   EXPECT_NE(refused.dump().find("unknown_section"), std::string::npos) << refused.dump();
   // SIGHUP reads it too, and refuses it the same way.
   daemon.signal(SIGHUP);
-  const auto more = subscriber.read_message(30s);
+  std::optional<nlohmann::json> more;
+  try {
+    more = subscriber.read_message(30s);
+  } catch (const std::exception& e) {
+    FAIL() << e.what() << "\n" << daemon.log();
+  }
   ASSERT_TRUE(more.has_value()) << "streaming stopped after the refused reload\n" << daemon.log();
   const nlohmann::json after = client.request({{"op", "status"}}, 10s);
   EXPECT_NE(after["status"]["last_reload"].get<std::string>().find("refused"), std::string::npos);
@@ -142,9 +159,11 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
         const auto it = received.find(s.sequence);
         if (it == received.end()) return;
         const nlohmann::json& live = it->second;
-        ASSERT_EQ(live["beams"].size(), s.beams.size());
-        for (std::size_t b = 0; b < s.beams.size(); ++b) {
-          const auto& l = live["beams"][b];
+        ASSERT_EQ(live["beams"].size(), 61u);
+        for (std::size_t i = 0; i < 61; ++i) {
+          const std::size_t b = 150 + i;
+          const auto& l = live["beams"][i];
+          ASSERT_EQ(l["index"].get<std::size_t>(), b);
           const auto& r = s.beams[b];
           EXPECT_EQ(l["flags"].get<int>(), r.flags) << s.sequence;
           EXPECT_TRUE(same(number(l["raw_mm"]), r.raw_mm));
@@ -158,7 +177,144 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   EXPECT_EQ(compared, received.size());
   // Scans before the first case reading are published raw (flagged temperature_stale); after
   // it every beam with an echo is compensated.
-  EXPECT_GT(compensated_values, (compared - 30) * 300);
+  EXPECT_GT(compensated_values, (compared - 30) * 55);
+
+  // The recording played by the emulated LMS 200 to a second daemon: it receives the same
+  // scans in the same order, none lost. Its case sensor samples the recorded temperatures anew,
+  // at its own instants, while the junction filter is still settling from its prior (± 2 °C:
+  // these are the daemons' first seconds), so its compensation is not yet the first daemon's:
+  // the differences are printed, not asserted (docs/daemon.md, "Recording and replay").
+  const std::string replay_shm = shm + "-replay";
+  std::string replay_config = config_text(dir.path() / "replay", replay_shm, calibration);
+  replay_config.replace(replay_config.find("  time_scale: 1.0\n"), 0,
+                        "  recording: " + files[0].string() + "\n");
+  replay_config.replace(replay_config.find("recording:\n  enabled: true"),
+                        std::string("recording:\n  enabled: true").size(),
+                        "recording:\n  enabled: false");
+  std::filesystem::create_directory(dir.path() / "replay");
+  write_file(dir.path() / "replay" / "tofcompd.yaml", replay_config);
+  DaemonProcess replay(dir.path() / "replay" / "tofcompd.yaml", dir.path() / "replay.log");
+  ASSERT_TRUE(wait_for_path(dir.path() / "replay" / "tofcompd.sock", 30s)) << replay.log();
+  ipc::socket::SocketClient replay_subscriber((dir.path() / "replay" / "tofcompd.sock").string(),
+                                              5s);
+  ASSERT_TRUE(replay_subscriber.request({{"op", "subscribe"}, {"beams", {150, 210}}}, 10s)
+                  .value("ok", false));
+  // The first daemon's scans by their raw ranges (the same scan has the same 61 ranges).
+  std::map<std::vector<double>, std::uint64_t> by_raw;
+  const auto raw_of = [](const nlohmann::json& scan) {
+    std::vector<double> raw;
+    for (const auto& b : scan["beams"]) raw.push_back(number(b["raw_mm"]));
+    return raw;
+  };
+  for (const auto& [sequence, scan] : received) by_raw[raw_of(scan)] = sequence;
+  std::optional<std::uint64_t> last_match;
+  std::size_t matched = 0;
+  double largest_difference = 0.0;
+  double junction_difference = 0.0;
+  std::size_t compared_beams = 0;
+  std::size_t same_mode = 0;
+  const core::MixtureParameters modes = daemon::read_configured_calibration(settings)->model.noise;
+  while (matched < 100) {
+    std::optional<nlohmann::json> message;
+    try {
+      message = replay_subscriber.read_message(30s);
+    } catch (const std::exception& e) {
+      FAIL() << e.what() << "\n" << replay.log();
+    }
+    ASSERT_TRUE(message.has_value()) << "the replaying daemon sent nothing\n" << replay.log();
+    const nlohmann::json& scan = scan_of(*message);
+    const auto it = by_raw.find(raw_of(scan));
+    if (it == by_raw.end()) {
+      // Before the first daemon's subscription began, or after its last scan.
+      if (last_match) break;
+      continue;
+    }
+    if (last_match) {
+      ASSERT_EQ(it->second, *last_match + 1) << "a scan was lost or reordered";
+    }
+    last_match = it->second;
+    ++matched;
+    const nlohmann::json& original = received.at(it->second);
+    junction_difference = std::max(
+        junction_difference, std::abs(number(original["junction_c"]) - number(scan["junction_c"])));
+    for (std::size_t i = 0; i < 61; ++i) {
+      const auto& a = original["beams"][i];
+      const auto& b = scan["beams"][i];
+      if (a["compensated_mm"].is_null() || b["compensated_mm"].is_null()) continue;
+      // y − H(t̂ʲ)θ̂: the compensated range with its mode's offset put back.
+      const auto corrected = [&](const nlohmann::json& beam) {
+        return number(beam["compensated_mm"]) + modes.mean[beam["most_probable_mode"].get<int>()];
+      };
+      largest_difference = std::max(largest_difference, std::abs(corrected(a) - corrected(b)));
+      ++compared_beams;
+      same_mode += a["most_probable_mode"] == b["most_probable_mode"];
+    }
+  }
+  EXPECT_GE(matched, 100u);
+  EXPECT_GT(compared_beams, 0u);
+  std::printf(
+      "replayed through the emulator: %zu scans matched; junction within %.4f °C, y - H theta "
+      "within %.4f mm, the same mode for %zu of %zu ranges\n",
+      matched, junction_difference, largest_difference, same_mode, compared_beams);
+  EXPECT_EQ(replay.terminate(), 0) << replay.log();
+}
+
+// Recalibration from a recorded data set: the daemon trains in its worker thread while it keeps
+// publishing, writes the calibration atomically and swaps it in between two scans: the scans
+// go on without a gap, the later ones carry the new calibration's id, and the file written is
+// a complete calibration.
+TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
+  TemporaryDirectory dir;
+  const std::string root = TOFCOMP_SOURCE_ROOT;
+  const auto data = dir.path() / "bench.csv";
+  const std::string simulate = std::string(TOFCOMP_BINARY) + " -q simulate " + root +
+                               "/config/scenarios/default.yaml -o " + data.string();
+  ASSERT_EQ(std::system(simulate.c_str()), 0);
+  std::filesystem::copy_file(root + "/config/calibration.yaml", dir.path() / "calibration.yaml");
+  const std::string shm = "/tofcomp-e2e-recal-" + std::to_string(::getpid());
+  const auto config = dir.path() / "tofcompd.yaml";
+  write_file(config, config_text(dir.path(), shm, "calibration.yaml") +
+                         "recalibration:\n"
+                         "  source: recording\n"
+                         "  recording: {data: bench.csv}\n"
+                         "  datasheet: " +
+                         root + "/config/lms200-datasheet.yaml\n");
+  DaemonProcess daemon(config, dir.path() / "tofcompd.log");
+  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
+  ASSERT_TRUE(
+      subscriber.request({{"op", "subscribe"}, {"beams", {180, 180}}}, 10s).value("ok", false));
+  ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
+  const nlohmann::json started = client.request({{"op", "recalibrate"}}, 10s);
+  ASSERT_TRUE(started.value("ok", false)) << started.dump();
+
+  std::optional<std::uint64_t> previous;
+  std::uint64_t first_new = 0;
+  for (const auto until = std::chrono::steady_clock::now() + 120s;
+       std::chrono::steady_clock::now() < until;) {
+    const auto message = subscriber.read_message(30s);
+    ASSERT_TRUE(message.has_value()) << daemon.log();
+    const nlohmann::json& scan = scan_of(*message);
+    const auto sequence = scan.at("sequence").get<std::uint64_t>();
+    if (previous) {
+      ASSERT_EQ(sequence, *previous + 1) << "a scan was lost";
+    }
+    previous = sequence;
+    if (scan.at("calibration_id").get<int>() == 2) {
+      first_new = sequence;
+      break;
+    }
+    ASSERT_EQ(scan.at("calibration_id").get<int>(), 1);
+  }
+  ASSERT_GT(first_new, 0u) << "the new calibration was not swapped in\n" << daemon.log();
+  const nlohmann::json status = client.request({{"op", "status"}}, 10s);
+  EXPECT_EQ(status["status"]["recalibration"].get<std::string>().rfind("done", 0), 0u)
+      << status.dump();
+  // The file written is a whole calibration, trained on the data set.
+  const io::Calibration written =
+      io::read_calibration_file((dir.path() / "calibration.yaml").string());
+  EXPECT_EQ(written.provenance.data_set, data.string());
+  EXPECT_EQ(daemon.terminate(), 0) << daemon.log();
 }
 
 }  // namespace
