@@ -103,11 +103,7 @@ socket::ReloadResult Daemon::reload() {
     pipeline_.set_settings(pipeline_settings(next));
     use_calibration(std::move(calibration), next.calibration.file.string());
     spdlog::set_level(next.log.level);
-    const bool recording_changed = next.recording.enabled != config_.recording.enabled ||
-                                   next.recording.directory != config_.recording.directory ||
-                                   next.recording.max_rows != config_.recording.max_rows ||
-                                   next.recording.max_minutes != config_.recording.max_minutes;
-    if (recording_changed) {
+    if (next.recording != config_.recording) {
       recorder_.reset();
       if (next.recording.enabled) {
         recorder_ = std::make_unique<Recorder>(RecorderSettings{
@@ -163,11 +159,6 @@ socket::RecalibrationResult Daemon::recalibrate(const nlohmann::json& args) {
     case config::RecalibrationSource::None:
       r.message = "recalibration.source is none in " + config_.source +
                   ": set it to recording (and recalibration.recording.data) to recalibrate";
-      return r;
-    case config::RecalibrationSource::PowerCycleRun:
-      r.message =
-          "recalibration.source power_cycle_run is not implemented yet; record a run "
-          "(recording.enabled) and use source recording";
       return r;
     case config::RecalibrationSource::Recording:
       break;

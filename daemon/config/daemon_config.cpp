@@ -19,8 +19,6 @@ std::string to_string(RecalibrationSource source) {
       return "none";
     case RecalibrationSource::Recording:
       return "recording";
-    case RecalibrationSource::PowerCycleRun:
-      return "power_cycle_run";
   }
   return "?";
 }

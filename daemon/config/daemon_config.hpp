@@ -126,20 +126,11 @@ struct RecordingConfig {
   std::filesystem::path directory = "/var/lib/tofcompd/recordings";
   std::optional<long> max_rows;
   std::optional<long> max_minutes = 60;
+  bool operator==(const RecordingConfig&) const = default;
 };
 
-enum class RecalibrationSource { None, Recording, PowerCycleRun };
+enum class RecalibrationSource { None, Recording };
 enum class RecalibrationTrigger { OnRequest, AtStartIfMissing };
-
-// `recalibration.power_cycle_run`: cycle the scanner's power with a target at a known distance
-// and train on what it measured.
-struct PowerCycleRunConfig {
-  int cycles = 3;
-  double on_s = 3600.0;
-  double off_s = 560.0;
-  double true_distance_mm = 0.0;  // required
-  int beam = 0;                   // the beam that sees the target
-};
 
 // `recalibration`: where a new calibration comes from and when it is made.
 struct RecalibrationConfig {
@@ -148,7 +139,6 @@ struct RecalibrationConfig {
   std::filesystem::path datasheet;  // Algorithm 1's datasheet values; required unless none
   std::filesystem::path output;     // where the calibration is written; default calibration.file
   std::filesystem::path data;       // source recording: the interchange CSV to train on
-  PowerCycleRunConfig power_cycle_run;
 };
 
 // `log`
@@ -171,7 +161,7 @@ struct DaemonConfig {
   LogConfig log;
 };
 
-// "none", "recording", "power_cycle_run"; "on_request", "at_start_if_missing".
+// "none", "recording"; "on_request", "at_start_if_missing".
 std::string to_string(RecalibrationSource source);
 std::string to_string(RecalibrationTrigger trigger);
 

@@ -98,20 +98,10 @@ class Rules {
     require(recal.output != recal.datasheet,
             "recalibration.output must not be recalibration.datasheet (" +
                 recal.datasheet.string() + ")");
-    if (recal.source == RecalibrationSource::Recording) {
-      require(!recal.data.empty(), "recalibration.recording.data is missing");
-      require(recal.output != recal.data,
-              "recalibration.output must not be recalibration.recording.data (" +
-                  recal.data.string() + ")");
-    } else {
-      require(config_.power.power_switch.has_value(),
-              "recalibration.source power_cycle_run cycles the scanner's power: it needs "
-              "power.switch");
-      require(recal.power_cycle_run.beam < beams_per_scan(),
-              "recalibration.power_cycle_run.beam " + std::to_string(recal.power_cycle_run.beam) +
-                  " is beyond the scan of link.variant (" + variant_text() +
-                  "), whose beams are 0 to " + std::to_string(beams_per_scan() - 1));
-    }
+    require(!recal.data.empty(), "recalibration.recording.data is missing");
+    require(recal.output != recal.data,
+            "recalibration.output must not be recalibration.recording.data (" +
+                recal.data.string() + ")");
     if (recal.trigger == RecalibrationTrigger::AtStartIfMissing) {
       require(!config_.calibration.file.empty() && recal.output == config_.calibration.file,
               "recalibration.trigger at_start_if_missing makes calibration.file when it is "
@@ -121,12 +111,6 @@ class Rules {
   }
 
  private:
-  int beams_per_scan() const { return config_.link.variant.values_per_scan(); }
-  std::string variant_text() const {
-    return std::to_string(config_.link.variant.angle_deg) + "° at " +
-           format_number(config_.link.variant.resolution_centideg / 100.0) + "°";
-  }
-
   const DaemonConfig& config_;
   std::string source_;
 };

@@ -1,54 +1,24 @@
-// Reader of the `recalibration` section: where a new calibration comes from (a recording, or a
-// power-cycle run against a target at a known distance), when it is made, and where it goes.
-#include <array>
+// Reader of the `recalibration` section: where a new calibration comes from (a recorded data
+// set with a known distance), when it is made, and where it goes.
 #include <string>
-#include <string_view>
 
 #include "daemon/config/config_fields.hpp"
 #include "daemon/config/section_parsers.hpp"
 
 namespace tofcomp::daemon::config::sections {
 
-namespace {
-
-using fields::between;
-using fields::greater_than_up_to;
-
-// The sub-section each source reads its own settings from.
-constexpr std::array<std::pair<RecalibrationSource, std::string_view>, 2> kSourceSections = {{
-    {RecalibrationSource::Recording, "recording"},
-    {RecalibrationSource::PowerCycleRun, "power_cycle_run"},
-}};
-
-void parse_power_cycle_run(const io::YamlMap& map, PowerCycleRunConfig& out) {
-  out.cycles = static_cast<int>(fields::integer(map, "cycles", between(1, 100), out.cycles));
-  out.on_s = fields::number(map, "on_s", greater_than_up_to(0, 86400), out.on_s);
-  out.off_s = fields::number(map, "off_s", greater_than_up_to(0, 86400), out.off_s);
-  out.true_distance_mm =
-      fields::required_number(map, "true_distance_mm", greater_than_up_to(0, 100000));
-  out.beam = static_cast<int>(fields::integer(map, "beam", between(0, 400), out.beam));
-}
-
-}  // namespace
-
 void parse_recalibration(const io::YamlMap& root, const ParseContext& context,
                          const CalibrationConfig& calibration, RecalibrationConfig& out) {
   out.output = calibration.file;
-  const auto map =
-      fields::section(root, "recalibration",
-                      {"source", "trigger", "datasheet", "output", "recording", "power_cycle_run"});
+  const auto map = fields::section(root, "recalibration",
+                                   {"source", "trigger", "datasheet", "output", "recording"});
   if (!map) return;
-  out.source =
-      fields::choice<RecalibrationSource>(*map, "source",
-                                          {{"none", RecalibrationSource::None},
-                                           {"recording", RecalibrationSource::Recording},
-                                           {"power_cycle_run", RecalibrationSource::PowerCycleRun}},
-                                          out.source);
-  for (const auto& [source, key] : kSourceSections) {
-    if (source != out.source && map->has(key)) {
-      map->fail(key, "applies to source " + std::string(key) + " only; source is " +
-                         to_string(out.source));
-    }
+  out.source = fields::choice<RecalibrationSource>(
+      *map, "source",
+      {{"none", RecalibrationSource::None}, {"recording", RecalibrationSource::Recording}},
+      out.source);
+  if (out.source != RecalibrationSource::Recording && map->has("recording")) {
+    map->fail("recording", "applies to source recording only; source is " + to_string(out.source));
   }
   out.trigger = fields::choice<RecalibrationTrigger>(
       *map, "trigger",
@@ -62,10 +32,6 @@ void parse_recalibration(const io::YamlMap& root, const ParseContext& context,
   if (out.source == RecalibrationSource::Recording) {
     const io::YamlMap recording(map->node("recording"), map->child_path("recording"), {"data"});
     out.data = fields::required_path(recording, "data", context.base_directory);
-  } else if (out.source == RecalibrationSource::PowerCycleRun) {
-    const io::YamlMap run(map->node("power_cycle_run"), map->child_path("power_cycle_run"),
-                          {"cycles", "on_s", "off_s", "true_distance_mm", "beam"});
-    parse_power_cycle_run(run, out.power_cycle_run);
   }
 }
 

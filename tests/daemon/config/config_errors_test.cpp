@@ -117,8 +117,7 @@ TEST(ConfigErrors, BadChoices) {
   expect_error(kMinimal + "compensation: {em: {m_step: fast}}\n",
                "compensation.em.m_step must be one of exact, paper, not \"fast\"");
   expect_error(kMinimal + "recalibration: {source: magic}\n",
-               "recalibration.source must be one of none, recording, power_cycle_run, not "
-               "\"magic\"");
+               "recalibration.source must be one of none, recording, not \"magic\"");
   expect_error("link: {device: /dev/ttyS0}\ncase_sensor: {backend: w1, w1: {device_id: 10-abc}}\n",
                "case_sensor.w1.device_id must be a DS18B20 id like \"28-0000075565b2\"");
 }
@@ -156,10 +155,9 @@ TEST(ConfigErrors, MissingRequiredKeys) {
   expect_error("case_sensor: {backend: simulated}\nemulator: {enabled: true}\n",
                "test.yaml: emulator.scenario is missing");
   expect_error(kMinimal +
-                   "power: {switch: {chip: gpiochip0, line: 17}}\n"
-                   "recalibration: {source: power_cycle_run, datasheet: d.yaml, output: c.yaml,\n"
-                   "  power_cycle_run: {cycles: 2}}\n",
-               "test.yaml: recalibration.power_cycle_run.true_distance_mm is missing");
+                   "recalibration: {source: recording, datasheet: d.yaml, output: c.yaml,"
+                   " recording: {}}\n",
+               "test.yaml: recalibration.recording.data is missing");
   expect_error(kMinimal + "recalibration: {source: recording, output: c.yaml, recording: {}}\n",
                "test.yaml: recalibration.datasheet is missing");
   expect_error(kMinimal + "recording: {rotation: {}}\n",

@@ -109,24 +109,11 @@ TEST(CrossFieldRules, RecalibrationNeedsSomewhereToWriteAndAPowerSwitch) {
                   "recalibration: {source: recording, datasheet: d.yaml, output: r.csv,"
                   " recording: {data: r.csv}}\n",
               {"recalibration.output", "recalibration.recording.data"});
-  expect_rule(kMinimal +
-                  "calibration: {file: c.yaml}\n"
-                  "recalibration: {source: power_cycle_run, datasheet: d.yaml,"
-                  " power_cycle_run: {true_distance_mm: 3000}}\n",
-              {"recalibration.source", "power.switch"});
-  expect_rule(kMinimal +
-                  "calibration: {file: c.yaml}\n"
-                  "power: {switch: {chip: gpiochip0, line: 17}}\n"
-                  "recalibration: {source: power_cycle_run, datasheet: d.yaml,"
-                  " power_cycle_run: {true_distance_mm: 3000, beam: 361}}\n",
-              {"recalibration.power_cycle_run.beam", "link.variant"});
   const DaemonConfig c = parse(kMinimal +
                                "calibration: {file: c.yaml}\n"
-                               "power: {switch: {chip: gpiochip0, line: 17}}\n"
-                               "recalibration: {source: power_cycle_run, datasheet: d.yaml,"
-                               " power_cycle_run: {true_distance_mm: 3000, beam: 360}}\n");
-  EXPECT_EQ(c.recalibration.output, "/etc/tofcompd/c.yaml");
-  EXPECT_EQ(c.recalibration.power_cycle_run.cycles, 3);  // the default
+                               "recalibration: {source: recording, datasheet: d.yaml,"
+                               " recording: {data: r.csv}}\n");
+  EXPECT_EQ(c.recalibration.output, "/etc/tofcompd/c.yaml");  // calibration.file
 }
 
 TEST(CrossFieldRules, AtStartIfMissingWritesTheCalibrationFile) {

@@ -124,14 +124,10 @@ TEST(ExampleFiles, HardwareHoldsTheValuesWrittenInIt) {
   EXPECT_EQ(c.recording.max_rows, 1000000);
   EXPECT_EQ(c.recording.max_minutes, 60);
 
-  EXPECT_EQ(c.recalibration.source, RecalibrationSource::PowerCycleRun);
+  EXPECT_EQ(c.recalibration.source, RecalibrationSource::Recording);
   EXPECT_EQ(c.recalibration.datasheet, "/etc/tofcompd/lms200-datasheet.yaml");
   EXPECT_EQ(c.recalibration.output, "/var/lib/tofcompd/calibration.yaml");
-  EXPECT_EQ(c.recalibration.power_cycle_run.cycles, 3);
-  EXPECT_EQ(c.recalibration.power_cycle_run.on_s, 3600.0);
-  EXPECT_EQ(c.recalibration.power_cycle_run.off_s, 560.0);
-  EXPECT_EQ(c.recalibration.power_cycle_run.true_distance_mm, 3000.0);
-  EXPECT_EQ(c.recalibration.power_cycle_run.beam, 180);
+  EXPECT_EQ(c.recalibration.data, "/var/lib/tofcompd/bench.csv");
 
   EXPECT_EQ(c.log.target, service::LogTarget::Journal);
 }
