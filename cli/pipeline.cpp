@@ -79,7 +79,25 @@ Compensation compensate(const MeasuredData& data, const io::Calibration& calibra
   out.junction =
       junction_at_ranges(data, calibration.thermal, calibration.noise, calibration.ambient_c);
   out.bias_mm = calibration.model.bias(out.junction.junction_c);
+  if (calibration.extension) {
+    out.bias_mm +=
+        calibration.extension->covariate_bias(data.range_time_s, out.junction.junction_c);
+  }
   return out;
+}
+
+core::ExtendedMixture noise_of(const io::Calibration& calibration) {
+  return calibration.extension ? calibration.extension->noise
+                               : core::without_extensions(calibration.model.noise);
+}
+
+double held_out_log_likelihood(const MeasuredData& data, const io::Calibration& calibration,
+                               const Compensation& compensation) {
+  data.require_true_ranges();
+  const core::ExtendedMixture noise = noise_of(calibration);
+  core::ExtendedResponsibilities scratch;
+  return core::extended_e_step(data.range_mm - data.true_range_mm - compensation.bias_mm,
+                               noise.bin_of(compensation.junction.junction_c), noise, scratch);
 }
 
 core::Diagnosis diagnose(const MeasuredData& data, const io::Calibration& calibration) {
@@ -92,7 +110,7 @@ core::Diagnosis diagnose(const MeasuredData& data, const io::Calibration& calibr
   input.junction_rate_c_per_s =
       core::local_rate(data.range_time_s, compensation.junction.junction_c, kRateHalfWindowS);
   input.residual = data.range_mm - data.true_range_mm - compensation.bias_mm;
-  return core::diagnose_residuals(input, calibration.model.noise);
+  return core::diagnose_residuals(input, noise_of(calibration).modes);
 }
 
 std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
@@ -108,8 +126,13 @@ std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
     if (progress) progress(static_cast<double>(w) / static_cast<double>(windows.size()));
     WindowEvaluation e;
     e.window = windows[w];
-    e.estimates = core::estimate_windows(data.range_mm, compensation.bias_mm,
-                                         calibration.model.noise, e.window, stride);
+    e.estimates = calibration.extension
+                      ? core::estimate_windows(
+                            data.range_mm, compensation.bias_mm,
+                            calibration.extension->noise.bin_of(compensation.junction.junction_c),
+                            calibration.extension->noise, e.window, stride)
+                      : core::estimate_windows(data.range_mm, compensation.bias_mm,
+                                               calibration.model.noise, e.window, stride);
     e.has_truth = has_truth;
     if (has_truth) {
       const auto count = static_cast<Eigen::Index>(e.estimates.start.size());

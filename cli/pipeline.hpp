@@ -62,7 +62,17 @@ struct Compensation {
   JunctionEstimate junction;
   Eigen::VectorXd bias_mm;
 };
+// With an extension (core/model_extension.hpp) the bias also carries its covariate term.
 Compensation compensate(const MeasuredData& data, const io::Calibration& calibration);
+
+// The noise ranges are compensated under: the extension's when the calibration has one, else
+// the paper's mixture.
+core::ExtendedMixture noise_of(const io::Calibration& calibration);
+
+// log p(y − d | calibration) over the ranges of data with a known distance: the held-out
+// criterion of an extension.
+double held_out_log_likelihood(const MeasuredData& data, const io::Calibration& calibration,
+                               const Compensation& compensation);
 
 // The residual diagnosis (core/residual_diagnosis.hpp) of data with a known distance under a
 // calibration; the junction's heating rate is its smoothed estimate's slope over ±30 s.
@@ -78,7 +88,8 @@ struct WindowEvaluation {
   core::ErrorMoments bias_corrected;  // mean of y − Hθ̂
 };
 
-// The three estimators on every window of each length (stride apart), and their error moments
+// The three estimators on every window of each length (d̂ under the calibration's noise, extended
+// or not) (stride apart), and their error moments
 // where the data carry the true distance (Fig. 16-19). `progress` gets the fraction done.
 std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
                                                const io::Calibration& calibration,

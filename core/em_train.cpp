@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/mode_regression.hpp"
 #include "core/validation.hpp"
 #include "core/weighted_least_squares.hpp"
 
@@ -38,35 +39,15 @@ void update_variances_and_weights(const Eigen::VectorXd& residual, const Eigen::
 }
 
 // Exact (ECM) M-step: maximizes Σ_k Σ_i r_ki [−(ỹ_k − H_k θ − μ_i)² / (2σ_i²)] jointly over
-// (θ, μ) with the previous σ², then σ² and π in closed form. The μ are profiled out of the
-// normal equations, and H is centred on its weighted mean first, so the reduced system
-// (G − Σ_i h_i h_iᵀ / s_i) θ = b − Σ_i h_i c_i / s_i stays well conditioned.
+// (θ, μ) with the previous σ² (core/mode_regression.hpp), then σ² and π in closed form.
 MStepResult exact_m_step(const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::VectorXd& y,
                          const Eigen::MatrixXd& r, const Eigen::VectorXd& previous_variance,
                          double floor, Eigen::MatrixXd& scratch) {
   const Eigen::MatrixXd w = r * previous_variance.cwiseInverse().asDiagonal();  // K × M
-  const Eigen::VectorXd total_weight = w.rowwise().sum();
-  const Eigen::ArrayXd sqrt_weight = total_weight.array().sqrt();
-  const Eigen::RowVectorXd column_mean = (total_weight.transpose() * h) / total_weight.sum();
-
-  scratch = sqrt_weight.matrix().asDiagonal() * (h.rowwise() - column_mean);
-  Eigen::MatrixXd g = gram(scratch);
-  Eigen::VectorXd b = scratch.transpose() * (sqrt_weight * y.array()).matrix();
-  const Eigen::MatrixXd mode_sums =
-      scratch.transpose() * (w.array().colwise() / sqrt_weight).matrix();  // p × M: h_i
-  const Eigen::VectorXd mode_mass = w.colwise().sum().transpose();         // s_i
-  const Eigen::VectorXd mode_target = w.transpose() * y;                   // c_i
-  for (Eigen::Index i = 0; i < w.cols(); ++i) {
-    g.noalias() -= mode_sums.col(i) * mode_sums.col(i).transpose() / mode_mass[i];
-    b.noalias() -= mode_sums.col(i) * (mode_target[i] / mode_mass[i]);
-  }
-
+  BiasAndOffsets solved = solve_bias_and_offsets(h, y, w, scratch);
   MStepResult out;
-  out.theta = solve_normal_equations(g, b, "the weighted normal matrix HᵀC⁻¹H of the M-step");
-  const double centred_bias = column_mean.dot(out.theta);
-  out.mixture.mean =
-      ((mode_target - mode_sums.transpose() * out.theta).array() / mode_mass.array()).matrix();
-  out.mixture.mean.array() -= centred_bias;
+  out.theta = std::move(solved.theta);
+  out.mixture.mean = std::move(solved.mean);
   const Eigen::VectorXd residual = y - h * out.theta;
   update_variances_and_weights(residual, r, floor, true, out.mixture);
   return out;

@@ -5,14 +5,19 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/extended_em.hpp"
 #include "core/validation.hpp"
 
 namespace tofcomp::core {
 
-WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
-                                 const Eigen::Ref<const Eigen::VectorXd>& bias,
-                                 const MixtureParameters& mixture, Eigen::Index window,
-                                 Eigen::Index stride, const EmTestOptions& options) {
+namespace {
+
+// The window loop shared by both noise models: `fit` runs EM testing on [first, first + window)
+// from a warm start.
+template <typename Fit>
+WindowEstimates window_loop(const Eigen::Ref<const Eigen::VectorXd>& y,
+                            const Eigen::Ref<const Eigen::VectorXd>& bias, Eigen::Index window,
+                            Eigen::Index stride, const Fit& fit) {
   require_same_length(y.size(), "y", bias.size(), "H theta");
   if (window < 1 || window > y.size()) {
     std::ostringstream msg;
@@ -35,15 +40,38 @@ WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
     const Eigen::Index first = w * stride;
     const auto y_window = y.segment(first, window);
     const auto bias_window = bias.segment(first, window);
-    const EmTestResult fit = test_em(y_window, bias_window, mixture, options, warm_start);
-    warm_start = fit.distance;
+    const EmTestResult result = fit(first, warm_start);
+    warm_start = result.distance;
     out.start.push_back(first);
-    out.em_distance[w] = fit.distance;
-    out.em_distance_std[w] = fit.distance_std;
+    out.em_distance[w] = result.distance;
+    out.em_distance_std[w] = result.distance_std;
     out.raw_mean[w] = y_window.mean();
     out.bias_corrected_mean[w] = (y_window - bias_window).mean();
   }
   return out;
+}
+
+}  // namespace
+
+WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
+                                 const Eigen::Ref<const Eigen::VectorXd>& bias,
+                                 const MixtureParameters& mixture, Eigen::Index window,
+                                 Eigen::Index stride, const EmTestOptions& options) {
+  return window_loop(y, bias, window, stride, [&](Eigen::Index first, std::optional<double> warm) {
+    return test_em(y.segment(first, window), bias.segment(first, window), mixture, options, warm);
+  });
+}
+
+WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
+                                 const Eigen::Ref<const Eigen::VectorXd>& bias,
+                                 const Eigen::Ref<const Eigen::VectorXi>& bin,
+                                 const ExtendedMixture& noise, Eigen::Index window,
+                                 Eigen::Index stride, const EmTestOptions& options) {
+  require_same_length(y.size(), "y", bin.size(), "temperature bins");
+  return window_loop(y, bias, window, stride, [&](Eigen::Index first, std::optional<double> warm) {
+    return test_extended_em(y.segment(first, window), bias.segment(first, window),
+                            bin.segment(first, window), noise, options, warm);
+  });
 }
 
 ErrorMoments error_moments(const Eigen::Ref<const Eigen::VectorXd>& estimates,

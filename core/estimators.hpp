@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/em_test.hpp"
+#include "core/extended_mixture.hpp"
 #include "core/gaussian_mixture.hpp"
 
 namespace tofcomp::core {
@@ -27,6 +28,14 @@ struct WindowEstimates {
 WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
                                  const Eigen::Ref<const Eigen::VectorXd>& bias,
                                  const MixtureParameters& mixture, Eigen::Index window,
+                                 Eigen::Index stride, const EmTestOptions& options = {});
+
+// The same windows with the extended noise of core/extended_mixture.hpp (EM testing by
+// core/extended_em.hpp), `bin` holding each range's junction-temperature bin.
+WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
+                                 const Eigen::Ref<const Eigen::VectorXd>& bias,
+                                 const Eigen::Ref<const Eigen::VectorXi>& bin,
+                                 const ExtendedMixture& noise, Eigen::Index window,
                                  Eigen::Index stride, const EmTestOptions& options = {});
 
 // The moments of Fig. 18-19 for estimates against the true distances.

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
+#include "core/em_train.hpp"
 #include "core/error.hpp"
 #include "core/validation.hpp"
 
@@ -38,31 +41,59 @@ Eigen::VectorXd ranks(const Eigen::VectorXd& v) {
   return r;
 }
 
-// Per mode, a scale that outliers do not inflate: 1.4826 × the median absolute deviation of
-// the mode's compensated residuals (σ for Gaussian data).
-Eigen::VectorXd robust_scale(const Eigen::VectorXd& compensated, const Eigen::VectorXi& mode,
-                             const MixtureParameters& mixture) {
-  Eigen::VectorXd scale(mixture.modes());
-  for (int i = 0; i < mixture.modes(); ++i) {
-    std::vector<double> deviations;
-    for (Eigen::Index k = 0; k < compensated.size(); ++k) {
-      if (mode[k] == i) deviations.push_back(std::abs(compensated[k]));
-    }
-    if (deviations.size() < 10) {
-      scale[i] = std::sqrt(mixture.variance[i]);
-      continue;
-    }
-    auto middle = deviations.begin() + static_cast<std::ptrdiff_t>(deviations.size() / 2);
-    std::nth_element(deviations.begin(), middle, deviations.end());
-    scale[i] = std::max(1.4826 * *middle, 1e-12);
+// Each residual less the nearest mode's offset, in units of a scale outliers do not inflate:
+// 1.4826 × the median absolute value of those differences (σ for Gaussian modes). The nearest
+// offset, not the most probable mode: an EM that grew one broad mode around the outliers would
+// otherwise measure them against that mode's own breadth.
+Eigen::VectorXd nearest_mode_deviation(const Eigen::VectorXd& residual,
+                                       const MixtureParameters& mixture) {
+  Eigen::VectorXd deviation(residual.size());
+  for (Eigen::Index k = 0; k < residual.size(); ++k) {
+    deviation[k] = (mixture.mean.array() - residual[k]).abs().minCoeff();
   }
-  return scale;
+  std::vector<double> sorted(deviation.data(), deviation.data() + deviation.size());
+  auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+  std::nth_element(sorted.begin(), middle, sorted.end());
+  return deviation / std::max(1.4826 * *middle, 1e-12);
 }
 
-// Tests of one structured effect rank before the generic symptoms (heavy tails, serial
-// dependence) that any unmodelled structure also produces.
+// The (M)-mode and (M+1)-mode mixtures of one half, by the paper's EM with no bias columns;
+// no value when EM cannot keep that many modes populated.
+std::optional<MixtureParameters> fit_modes(const Eigen::VectorXd& residual, int modes) {
+  EmTrainOptions options;
+  options.modes = modes;
+  options.record_trace = false;
+  options.max_iterations = 500;
+  try {
+    return train_em(Eigen::MatrixXd(residual.size(), 0), residual, options).mixture;
+  } catch (const NumericalError&) {
+    return std::nullopt;
+  }
+}
+
+// One more mode: the split likelihood ratio, fitted on one half and evaluated on the other,
+// both ways, T = (T_ab + T_ba) / 2.
+TestResult extra_mode_test(const Eigen::VectorXd& residual, int modes) {
+  const Eigen::Index half = residual.size() / 2;
+  const Eigen::VectorXd first = residual.head(half);
+  const Eigen::VectorXd second = residual.tail(residual.size() - half);
+  const auto log_t = [&](const Eigen::VectorXd& fit_on, const Eigen::VectorXd& test_on) {
+    const auto alternative = fit_modes(fit_on, modes + 1);
+    const auto null = fit_modes(test_on, modes);
+    if (!alternative || !null) return -std::numeric_limits<double>::infinity();
+    return mixture_log_likelihood(test_on, *alternative) - mixture_log_likelihood(test_on, *null);
+  };
+  const double a = log_t(first, second);
+  const double b = log_t(second, first);
+  const double top = std::max(a, b);
+  const double log_mean =
+      std::isfinite(top) ? top + std::log(0.5 * (std::exp(a - top) + std::exp(b - top))) : top;
+  return split_likelihood_ratio_test(std::isfinite(log_mean) ? log_mean : 0.0);
+}
+
+// Serial dependence is a symptom of any structure in time; a named effect ranks before it.
 bool generic(EffectKind kind) {
-  return kind == EffectKind::Outliers || kind == EffectKind::SerialDependence;
+  return kind == EffectKind::SerialDependence;
 }
 
 }  // namespace
@@ -81,6 +112,8 @@ const char* effect_name(EffectKind kind) {
       return "heating hysteresis";
     case EffectKind::TimeDrift:
       return "time drift";
+    case EffectKind::ExtraMode:
+      return "one more lasing mode";
     case EffectKind::SerialDependence:
       return "serial dependence";
   }
@@ -156,14 +189,14 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
   d.findings.push_back(make(
       EffectKind::TemperatureDependentSpread, "Spearman correlation", "junction temperature vs |z|",
       correlation_test(ranks(in.junction_c), ranks(d.standardized.cwiseAbs()))));
-  const Eigen::VectorXd scale = robust_scale(d.compensated, d.mode, mixture);
-  double beyond = 0.0;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    beyond += std::abs(d.compensated[k]) / scale[d.mode[k]] > options.tail_z;
-  }
+  const Eigen::VectorXd deviation = nearest_mode_deviation(in.residual, mixture);
+  const double beyond = static_cast<double>((deviation.array() > options.tail_z).count());
   d.findings.push_back(
-      make(EffectKind::Outliers, "tail excess", "|e| > 4.5 robust sigma",
+      make(EffectKind::Outliers, "tail excess", "|e - nearest mu| > 8 robust sigma",
            tail_excess_test(beyond, static_cast<double>(n), two_sided_normal_p(options.tail_z))));
+  d.findings.push_back(make(EffectKind::ExtraMode, "split likelihood ratio",
+                            "M + 1 modes against M",
+                            extra_mode_test(in.residual, mixture.modes())));
   d.findings.push_back(make(EffectKind::HeatingHysteresis, "correlation", "junction heating rate",
                             correlation_test(in.junction_rate_c_per_s, d.compensated)));
   d.findings.push_back(make(EffectKind::TimeDrift, "correlation", "time",

@@ -5,15 +5,19 @@
 //   mode persistence            runs test on the sequence of most probable modes
 //   temperature-dependent weights  χ² independence of mode and junction-temperature quartile
 //   temperature-dependent spread  rank correlation of |z| with the junction temperature
-//   outliers (heavy tails)      excess of |e| > 4.5 robust σ (per mode, from the MAD) over
-//                               the Gaussian tail
+//   outliers (heavy tails)      excess of |e − μ_nearest| > 8 robust σ (1.4826 × the MAD of
+//                               the nearest-mode residuals, pooled: a broad mode the EM grew
+//                               to hold the outliers cannot hide them) over the Gaussian tail
+//   one more lasing mode        split likelihood-ratio test (universal inference) of M + 1
+//                               modes against M on the residuals, each half fitted by EM
 //   heating hysteresis          correlation of e with the junction's rate of change
 //   time drift                  correlation of e with time
 //   serial dependence           Ljung–Box on e (what is left once the above are accounted)
 // A finding is significant at level α / (number of tests) (Bonferroni), so that data with no
 // effect raise any finding with probability at most α. Significant findings come first, those
 // of a structured effect before the generic symptoms (tails, serial dependence), each group by
-// its z.
+// its z. Serial dependence is the one generic symptom: any unmodelled structure in time shows
+// in it.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,6 +36,7 @@ enum class EffectKind {
   Outliers,
   HeatingHysteresis,
   TimeDrift,
+  ExtraMode,
   SerialDependence,
 };
 
@@ -55,7 +60,7 @@ struct DiagnosisInput {
 struct DiagnosisOptions {
   double alpha = 0.05;  // family-wise false-alarm level
   int ljung_box_lags = 20;
-  double tail_z = 4.5;
+  double tail_z = 8.0;
 };
 
 struct Diagnosis {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -162,6 +163,35 @@ TestResult tail_excess_test(double observed, double n, double tail_probability) 
   const double sd = std::sqrt(n * tail_probability * (1.0 - tail_probability));
   const double z = (observed - 0.5 - expected) / sd;
   return {observed / expected, 0.5 * std::erfc(z / std::sqrt(2.0)), 0.0, z};
+}
+
+double normal_deviate_of_log_p(double log_p) {
+  if (log_p >= std::log(0.5)) return 0.0;
+  // log Q(z): exact from erfc while it is representable, else the asymptotic series.
+  const auto log_upper_tail = [](double z) {
+    if (z < 30.0) return std::log(0.5 * std::erfc(z / std::numbers::sqrt2));
+    return -0.5 * z * z - std::log(z * std::sqrt(2.0 * std::numbers::pi)) +
+           std::log1p(-1.0 / (z * z));
+  };
+  double z = std::sqrt(-2.0 * log_p);
+  for (int i = 0; i < 60; ++i) {
+    // d/dz log Q(z) = −φ(z)/Q(z) ≈ −(z + 1/z) for large z; Newton on log Q.
+    const double f = log_upper_tail(z) - log_p;
+    const double h = 1e-6 * std::max(1.0, z);
+    const double slope = (log_upper_tail(z + h) - log_upper_tail(z - h)) / (2.0 * h);
+    const double step = f / slope;
+    z = std::max(z - step, 1e-9);
+    if (std::abs(step) < 1e-10 * std::max(1.0, z)) break;
+  }
+  return z;
+}
+
+TestResult split_likelihood_ratio_test(double log_t) {
+  TestResult r;
+  r.statistic = log_t;
+  r.p_value = log_t > 0.0 ? std::exp(-log_t) : 1.0;
+  r.z = log_t > 0.0 ? normal_deviate_of_log_p(-log_t) : 0.0;
+  return r;
 }
 
 }  // namespace tofcomp::core

@@ -42,6 +42,17 @@ TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
 TestResult likelihood_ratio_test(double log_likelihood_null, double log_likelihood_alternative,
                                  int extra_parameters);
 
+// The split likelihood-ratio test of universal inference (Wasserman, Ramdas and Balakrishnan,
+// PNAS 2020): the alternative fitted on one half of the data, its likelihood on the other half
+// against the null's maximum there, T = L₀(θ̂₁) / L₀(θ̂₀), averaged over both directions. Valid
+// at any sample size without regularity conditions (so for the number of mixture components,
+// where 2Δℓ is not χ²): P(T ≥ 1/α) ≤ α. statistic = log T, p = min(1, 1/T).
+TestResult split_likelihood_ratio_test(double log_t);
+
+// The standard-normal deviate whose upper tail is exp(log_p) (log_p ≤ 0), also where the
+// p-value itself underflows.
+double normal_deviate_of_log_p(double log_p);
+
 // Pearson χ² test of independence of a contingency table of counts (rows × columns).
 TestResult chi_square_independence(const Eigen::Ref<const Eigen::MatrixXd>& counts);
 

@@ -92,6 +92,123 @@ Eigen::VectorXd read_vector(const YamlMap& parent, std::string_view key) {
   return v;
 }
 
+// The token of an effect in the file: its name with '_' for spaces and hyphens.
+std::string effect_token(core::EffectKind kind) {
+  std::string token = core::effect_name(kind);
+  for (char& ch : token) {
+    if (ch == ' ' || ch == '-') ch = '_';
+  }
+  return token;
+}
+
+constexpr core::EffectKind kEffects[] = {core::EffectKind::ModePersistence,
+                                         core::EffectKind::TemperatureDependentWeights,
+                                         core::EffectKind::TemperatureDependentSpread,
+                                         core::EffectKind::Outliers,
+                                         core::EffectKind::HeatingHysteresis,
+                                         core::EffectKind::TimeDrift,
+                                         core::EffectKind::ExtraMode};
+
+void emit_matrix(YAML::Emitter& out, const char* key, const Eigen::MatrixXd& m) {
+  if (m.size() == 0) return;
+  out << YAML::Key << key << YAML::Value << YAML::BeginSeq;
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    out << YAML::Flow << YAML::BeginSeq;
+    for (Eigen::Index c = 0; c < m.cols(); ++c) out << m(r, c);
+    out << YAML::EndSeq;
+  }
+  out << YAML::EndSeq;
+}
+
+// The extension's parts beyond the paper's model; its modes are the measurement's modes.
+void emit_extension(YAML::Emitter& out, const core::ModelExtension& e,
+                    const core::MixtureParameters& modes) {
+  e.validate();
+  if (e.noise.modes.mean != modes.mean || e.noise.modes.variance != modes.variance ||
+      e.noise.modes.weight != modes.weight) {
+    throw core::InvalidInput("the extension's modes differ from the measurement's modes");
+  }
+  out << YAML::Key << "extension" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "effect" << YAML::Value << effect_token(e.effect);
+  out << YAML::Key << "covariate" << YAML::Value << core::covariate_name(e.covariate);
+  out << YAML::Key << "covariate_mm" << YAML::Value << e.covariate_mm;
+  if (e.noise.bin_edges_c.size() > 0) {
+    out << YAML::Key << "bin_edges_c" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (Eigen::Index b = 0; b < e.noise.bin_edges_c.size(); ++b) out << e.noise.bin_edges_c[b];
+    out << YAML::EndSeq;
+  }
+  emit_matrix(out, "bin_weights", e.noise.bin_weight);
+  emit_matrix(out, "bin_variances_mm2", e.noise.bin_variance);
+  emit_matrix(out, "transition", e.noise.transition);
+  if (e.noise.outlier_weight > 0.0) {
+    out << YAML::Key << "outlier_weight" << YAML::Value << e.noise.outlier_weight;
+    out << YAML::Key << "outlier_span_mm" << YAML::Value << 1.0 / e.noise.outlier_density;
+  }
+  out << YAML::EndMap;
+}
+
+Eigen::MatrixXd read_matrix(const YamlMap& parent, std::string_view key) {
+  if (!parent.has(key)) return {};
+  const YAML::Node rows = parent.node(key);
+  if (!rows.IsSequence() || rows.size() == 0) parent.fail(key, "must be a non-empty list of lists");
+  Eigen::MatrixXd m;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const YAML::Node row = rows[r];
+    const std::string where = std::string(key) + "[" + std::to_string(r) + "]";
+    if (!row.IsSequence() || (r > 0 && static_cast<Eigen::Index>(row.size()) != m.cols())) {
+      parent.fail(where, "must be a list of numbers as long as the first row");
+    }
+    if (r == 0)
+      m.resize(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(row.size()));
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      double x = 0.0;
+      if (!row[c].IsScalar() || !YAML::convert<double>::decode(row[c], x) || !std::isfinite(x)) {
+        parent.fail(where + "[" + std::to_string(c) + "]", "must be a finite number");
+      }
+      m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = x;
+    }
+  }
+  return m;
+}
+
+core::ModelExtension read_extension(const YamlMap& top, const core::MixtureParameters& modes) {
+  const YamlMap x(top.node("extension"), "extension",
+                  {"effect", "covariate", "covariate_mm", "bin_edges_c", "bin_weights",
+                   "bin_variances_mm2", "transition", "outlier_weight", "outlier_span_mm"});
+  core::ModelExtension e;
+  const std::string effect = x.text("effect");
+  bool known = false;
+  for (const core::EffectKind kind : kEffects) {
+    if (effect == effect_token(kind)) e.effect = kind, known = true;
+  }
+  if (!known) x.fail("effect", "'" + effect + "' is not an effect with an extension");
+  const std::string covariate = x.text_or("covariate", "none");
+  bool covariate_known = false;
+  for (const core::Covariate c : {core::Covariate::None, core::Covariate::TimeHours,
+                                  core::Covariate::HeatingRateCPerMinute}) {
+    if (covariate == core::covariate_name(c)) e.covariate = c, covariate_known = true;
+  }
+  if (!covariate_known) x.fail("covariate", "must be none, time_h or heating_rate_c_per_min");
+  e.covariate_mm = x.number_or("covariate_mm", 0.0);
+  e.noise.modes = modes;
+  if (x.has("bin_edges_c")) e.noise.bin_edges_c = read_vector(x, "bin_edges_c");
+  e.noise.bin_weight = read_matrix(x, "bin_weights");
+  e.noise.bin_variance = read_matrix(x, "bin_variances_mm2");
+  e.noise.transition = read_matrix(x, "transition");
+  if (x.has("outlier_weight")) {
+    e.noise.outlier_weight = x.number("outlier_weight");
+    const double span = x.number("outlier_span_mm");
+    if (!(span > 0.0)) x.fail("outlier_span_mm", "must be positive");
+    e.noise.outlier_density = 1.0 / span;
+  }
+  try {
+    e.validate();
+  } catch (const core::InvalidInput& error) {
+    throw YamlSchemaError(std::string("extension: ") + error.what());
+  }
+  return e;
+}
+
 }  // namespace
 
 std::string calibration_to_yaml(const Calibration& c) {
@@ -139,6 +256,7 @@ std::string calibration_to_yaml(const Calibration& c) {
   }
   out << YAML::EndSeq;
   out << YAML::EndMap;
+  if (c.extension) emit_extension(out, *c.extension, c.model.noise);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -150,7 +268,8 @@ void write_calibration_file(const std::string& file, const Calibration& calibrat
 Calibration read_calibration_file(const std::string& file) {
   try {
     const YAML::Node root = load_yaml_file(file);
-    const YamlMap top(root, "", {"schema", "version", "provenance", "thermal", "measurement"});
+    const YamlMap top(root, "",
+                      {"schema", "version", "provenance", "thermal", "measurement", "extension"});
     if (top.text("schema") != kCalibrationSchema) {
       top.fail("schema",
                std::string("must be ") + kCalibrationSchema + ", not '" + top.text("schema") + "'");
@@ -211,6 +330,7 @@ Calibration read_calibration_file(const std::string& file) {
     } catch (const core::InvalidInput& e) {
       throw YamlSchemaError(std::string("measurement: ") + e.what());
     }
+    if (top.has("extension")) c.extension = read_extension(top, c.model.noise);
     return c;
   } catch (const YamlSchemaError& e) {
     const std::string what = e.what();

@@ -3,10 +3,12 @@
 // carries its unit in its key. Reference: docs/calibration-file.md.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/kalman.hpp"
 #include "core/measurement_model.hpp"
+#include "core/model_extension.hpp"
 #include "core/thermal_model.hpp"
 
 namespace tofcomp::io {
@@ -27,6 +29,9 @@ struct Calibration {
   core::ThermalNoise noise;  // of the junction-temperature Kalman filter (§3.3)
   double ambient_c = 22.0;   // used when the data carry no ambient column
   core::MeasurementModel model;
+  // What the residual diagnosis added to Eq. 8 (`tofcomp diagnose`); its noise replaces
+  // model.noise wherever ranges are compensated. Absent: the paper's model.
+  std::optional<core::ModelExtension> extension;
   Provenance provenance;
 };
 

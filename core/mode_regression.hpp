@@ -1,0 +1,27 @@
+// The (θ, μ) block of the exact M-step of §5 (Eq. 19 solved jointly): minimizes
+//   Σ_k Σ_i w_ki (ỹ_k − H_k θ − μ_i)²,   w_ki = r_ki / σ²_ki,
+// over θ and the mode offsets μ_1..μ_M at once. The μ are profiled out of the normal equations
+// and H is centred on its weighted mean first, so the reduced p × p system
+//   (G − Σ_i h_i h_iᵀ / s_i) θ = b − Σ_i h_i c_i / s_i
+// stays well conditioned. Shared by the paper's EM (core/em_train.hpp) and the extended EM
+// (core/extended_em.hpp), whose weights differ only in where σ²_ki comes from.
+// Cost O(K·p² + K·M·p); never a K × K matrix.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace tofcomp::core {
+
+struct BiasAndOffsets {
+  Eigen::VectorXd theta;  // θ (p)
+  Eigen::VectorXd mean;   // μ_i (M)
+};
+
+// h: K × p, y: K, weights: K × M non-negative with every column summing to a positive mass.
+// Throws NumericalError when the reduced normal matrix is singular.
+BiasAndOffsets solve_bias_and_offsets(const Eigen::Ref<const Eigen::MatrixXd>& h,
+                                      const Eigen::Ref<const Eigen::VectorXd>& y,
+                                      const Eigen::Ref<const Eigen::MatrixXd>& weights,
+                                      Eigen::MatrixXd& scratch);
+
+}  // namespace tofcomp::core
