@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "core/error.hpp"
@@ -80,6 +81,25 @@ TEST(StatisticalTests, CorrelationAndIndependence) {
   EXPECT_DOUBLE_EQ(tail.statistic, 3.0);
   EXPECT_LT(tail.p_value, 1e-6);
   EXPECT_GT(tail_excess_test(10, 1000, 0.01).p_value, 0.3);
+}
+
+// The normal deviate of a log tail probability: table values, and the asymptotic regime where
+// the tail itself underflows (log Q(z) ≈ −z²/2 − log(z√(2π))).
+TEST(StatisticalTests, NormalDeviateOfLogP) {
+  EXPECT_NEAR(normal_deviate_of_log_p(std::log(0.025)), 1.959964, 1e-5);
+  EXPECT_NEAR(normal_deviate_of_log_p(std::log(1e-10)), 6.361341, 1e-5);
+  EXPECT_EQ(normal_deviate_of_log_p(std::log(0.7)), 0.0);
+  const double z = normal_deviate_of_log_p(-5000.0);
+  EXPECT_NEAR(-0.5 * z * z - std::log(z * std::sqrt(2.0 * std::numbers::pi)), -5000.0, 1e-3);
+}
+
+// Universal inference: p = 1/T, so T = 20 sits at 5 %; no evidence is p = 1.
+TEST(StatisticalTests, SplitLikelihoodRatio) {
+  const TestResult at_5 = split_likelihood_ratio_test(std::log(20.0));
+  EXPECT_NEAR(at_5.p_value, 0.05, 1e-12);
+  EXPECT_NEAR(at_5.z, 1.644854, 1e-5);
+  EXPECT_EQ(split_likelihood_ratio_test(-3.0).p_value, 1.0);
+  EXPECT_GT(split_likelihood_ratio_test(2000.0).z, 60.0);
 }
 
 }  // namespace

@@ -99,6 +99,74 @@ TEST(CalibrationFile, ErrorsNameTheFileAndKey) {
   EXPECT_EQ(message.rfind(temp_file("broken.yaml"), 0), 0u) << message;
 }
 
+// Every part an extension can hold survives the file exactly.
+TEST(CalibrationFile, ExtensionRoundTripIsExact) {
+  Calibration c = example();
+  core::ModelExtension e;
+  e.effect = core::EffectKind::TemperatureDependentSpread;
+  e.covariate = core::Covariate::HeatingRateCPerMinute;
+  e.covariate_mm = 1.0 / 3.0;
+  e.noise = core::without_extensions(c.model.noise);
+  e.noise.bin_edges_c = Eigen::Vector2d(25.5, 27.25);
+  e.noise.bin_variance = Eigen::MatrixXd::Constant(3, 2, 0.7);
+  e.noise.bin_variance(2, 1) = 1.0 / 7.0;
+  e.noise.bin_weight = Eigen::MatrixXd::Constant(3, 2, 0.5);
+  e.noise.outlier_weight = 0.015;
+  e.noise.outlier_density = 1.0 / 180.0;
+  c.extension = e;
+  const std::string file = temp_file("extended.yaml");
+  write_calibration_file(file, c);
+  const Calibration back = read_calibration_file(file);
+  ASSERT_TRUE(back.extension.has_value());
+  EXPECT_EQ(back.extension->effect, e.effect);
+  EXPECT_EQ(back.extension->covariate, e.covariate);
+  EXPECT_EQ(back.extension->covariate_mm, e.covariate_mm);
+  EXPECT_EQ(back.extension->noise.bin_edges_c, e.noise.bin_edges_c);
+  EXPECT_EQ(back.extension->noise.bin_variance, e.noise.bin_variance);
+  EXPECT_EQ(back.extension->noise.bin_weight, e.noise.bin_weight);
+  EXPECT_EQ(back.extension->noise.outlier_weight, e.noise.outlier_weight);
+  EXPECT_DOUBLE_EQ(back.extension->noise.outlier_density, e.noise.outlier_density);
+  EXPECT_EQ(back.extension->noise.modes.mean, c.model.noise.mean);
+
+  core::ModelExtension chain;
+  chain.effect = core::EffectKind::ModePersistence;
+  chain.noise = core::without_extensions(c.model.noise);
+  chain.noise.transition = (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
+  c.extension = chain;
+  write_calibration_file(file, c);
+  EXPECT_EQ(read_calibration_file(file).extension->noise.transition, chain.noise.transition);
+  // A file without the section is the paper's model.
+  EXPECT_FALSE(read_calibration_file([&] {
+                 write_calibration_file(file, example());
+                 return file;
+               }())
+                   .extension.has_value());
+}
+
+TEST(CalibrationFile, ExtensionErrorsNameTheKey) {
+  Calibration c = example();
+  core::ModelExtension chain;
+  chain.effect = core::EffectKind::ModePersistence;
+  chain.noise = core::without_extensions(c.model.noise);
+  chain.noise.transition = (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
+  c.extension = chain;
+  const std::string good = calibration_to_yaml(c);
+  EXPECT_NE(error_of(replaced(good, "effect: mode_persistence", "effect: gremlins"))
+                .find("extension.effect 'gremlins' is not an effect"),
+            std::string::npos)
+      << error_of(replaced(good, "effect: mode_persistence", "effect: gremlins"));
+  EXPECT_NE(error_of(replaced(good, "[0.875, 0.125]", "[0.875, 0.5]")).find("transition"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(good, "[0.875, 0.125]", "[0.875]"))
+                .find("extension.transition[1] must be a list of numbers as long as the first row"),
+            std::string::npos)
+      << error_of(replaced(good, "[0.875, 0.125]", "[0.875]"));
+  EXPECT_NE(error_of(replaced(good, "covariate: none", "covariate: moon_phase")).find("covariate"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(good, "covariate_mm", "covariate_inch")).find("covariate_inch"),
+            std::string::npos);
+}
+
 TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
   const std::string dir = ::testing::TempDir() + "/atomic";
   std::filesystem::create_directories(dir);

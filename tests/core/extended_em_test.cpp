@@ -1,0 +1,261 @@
+// The extended noise of Eq. 8 (core/extended_mixture.hpp) and its EM (core/extended_em.hpp),
+// against independent answers: brute-force enumeration of the mode paths, the paper's E-step
+// and EM testing where the extension reduces to them, and recovery of known parameters from
+// data drawn from the extended model.
+#include "core/extended_em.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/em_test.hpp"
+#include "core/error.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+MixtureParameters two_modes() {
+  MixtureParameters m;
+  m.mean = Eigen::Vector2d(-1.0, 1.5);
+  m.variance = Eigen::Vector2d(0.8, 1.2);
+  m.weight = Eigen::Vector2d(0.6, 0.4);
+  return m;
+}
+
+double normal_pdf(double x, double mean, double variance) {
+  return std::exp(-0.5 * (x - mean) * (x - mean) / variance) /
+         std::sqrt(2.0 * std::numbers::pi * variance);
+}
+
+// Draws K residuals from a two-mode Markov chain (stationary start).
+Eigen::VectorXd draw_chain(const MixtureParameters& m, const Eigen::Matrix2d& a, Eigen::Index k,
+                           unsigned seed, Eigen::VectorXi* modes = nullptr) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::VectorXd e(k);
+  if (modes) modes->resize(k);
+  int mode = u(rng) < m.weight[0] ? 0 : 1;
+  for (Eigen::Index i = 0; i < k; ++i) {
+    if (i > 0) mode = u(rng) < a(mode, 0) ? 0 : 1;
+    e[i] = m.mean[mode] + std::sqrt(m.variance[mode]) * n(rng);
+    if (modes) (*modes)[i] = mode;
+  }
+  return e;
+}
+
+TEST(ExtendedMixture, WithoutExtensionsIsThePapersEStep) {
+  const Eigen::VectorXd e = draw_chain(two_modes(), Eigen::Matrix2d::Constant(0.5), 50, 1);
+  Eigen::MatrixXd expected;
+  const double expected_ll = mixture_e_step(e, two_modes(), expected);
+  ExtendedResponsibilities r;
+  const double ll =
+      extended_e_step(e, Eigen::VectorXi::Zero(50), without_extensions(two_modes()), r);
+  EXPECT_DOUBLE_EQ(ll, expected_ll);
+  EXPECT_TRUE(r.mode.isApprox(expected, 1e-15));
+  EXPECT_EQ(r.outlier.size(), 50);
+  EXPECT_EQ(r.outlier.norm(), 0.0);
+}
+
+// A chain whose every row is the weights draws independently: the forward-backward recursion
+// must give the paper's E-step.
+TEST(ExtendedMixture, ChainWithIdenticalRowsIsIndependentDraws) {
+  const MixtureParameters m = two_modes();
+  const Eigen::VectorXd e = draw_chain(m, Eigen::Matrix2d::Constant(0.5), 200, 2);
+  ExtendedMixture chain = without_extensions(m);
+  chain.transition = Eigen::Vector2d::Ones() * m.weight.transpose();
+  ExtendedResponsibilities r;
+  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(200), chain, r);
+  Eigen::MatrixXd expected;
+  EXPECT_NEAR(ll, mixture_e_step(e, m, expected), 1e-9);
+  EXPECT_TRUE(r.mode.isApprox(expected, 1e-10));
+  // Expected transition counts of independent draws: Σ_k r_{k−1,i} r_{k,j}.
+  Eigen::Matrix2d counts = Eigen::Matrix2d::Zero();
+  for (Eigen::Index k = 1; k < 200; ++k) {
+    counts += expected.row(k - 1).transpose() * expected.row(k);
+  }
+  EXPECT_TRUE(r.transitions.isApprox(counts, 1e-9));
+}
+
+// Forward-backward against the sum over all 2^K mode paths.
+TEST(ExtendedMixture, ChainMatchesEnumerationOfEveryPath) {
+  const MixtureParameters m = two_modes();
+  Eigen::Matrix2d a;
+  a << 0.9, 0.1, 0.25, 0.75;
+  const Eigen::VectorXd e =
+      (Eigen::VectorXd(8) << -1.2, 0.3, 1.9, 1.1, -0.4, -2.0, 2.2, 0.1).finished();
+  double total = 0.0;
+  Eigen::MatrixXd posterior = Eigen::MatrixXd::Zero(8, 2);
+  Eigen::Matrix2d pairs = Eigen::Matrix2d::Zero();  // Σ_k P(mode_{k−1} = i, mode_k = j, e)
+  for (int path = 0; path < 256; ++path) {
+    double p = 1.0;
+    for (int k = 0; k < 8; ++k) {
+      const int mode = (path >> k) & 1;
+      const double prior = k == 0 ? m.weight[mode] : a((path >> (k - 1)) & 1, mode);
+      p *= prior * normal_pdf(e[k], m.mean[mode], m.variance[mode]);
+    }
+    total += p;
+    for (int k = 0; k < 8; ++k) posterior(k, (path >> k) & 1) += p;
+    for (int k = 1; k < 8; ++k) pairs((path >> (k - 1)) & 1, (path >> k) & 1) += p;
+  }
+  ExtendedMixture chain = without_extensions(m);
+  chain.transition = a;
+  ExtendedResponsibilities r;
+  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(8), chain, r);
+  EXPECT_NEAR(ll, std::log(total), 1e-12);
+  EXPECT_TRUE(r.mode.isApprox(posterior / total, 1e-12));
+  EXPECT_TRUE(r.transitions.isApprox(pairs / total, 1e-12));
+}
+
+TEST(ExtendedMixture, OutlierComponentMatchesItsDensity) {
+  ExtendedMixture m = without_extensions(two_modes());
+  m.outlier_weight = 0.05;
+  m.outlier_density = 1.0 / 200.0;
+  const Eigen::VectorXd e = (Eigen::VectorXd(3) << 0.0, 1.5, 60.0).finished();
+  ExtendedResponsibilities r;
+  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(3), m, r);
+  double expected = 0.0;
+  for (Eigen::Index k = 0; k < 3; ++k) {
+    const double inlier = 0.6 * normal_pdf(e[k], -1.0, 0.8) + 0.4 * normal_pdf(e[k], 1.5, 1.2);
+    const double density = 0.95 * inlier + 0.05 / 200.0;
+    expected += std::log(density);
+    EXPECT_NEAR(r.outlier[k], 0.05 / 200.0 / density, 1e-12);
+  }
+  EXPECT_NEAR(ll, expected, 1e-10);
+  EXPECT_GT(r.outlier[2], 0.999);  // 60 mm from every mode
+}
+
+TEST(ExtendedMixture, ValidationNamesTheProblem) {
+  ExtendedMixture m = without_extensions(two_modes());
+  m.transition = Eigen::Matrix2d::Constant(0.6);
+  EXPECT_THROW(m.validate(), InvalidInput);  // rows sum to 1.2
+  m.transition = Eigen::Matrix2d::Constant(0.5);
+  m.outlier_weight = 0.1;
+  m.outlier_density = 0.01;
+  EXPECT_THROW(m.validate(), InvalidInput);  // a chain with an outlier component
+  m = without_extensions(two_modes());
+  m.bin_edges_c = Eigen::Vector2d(26.0, 25.0);
+  EXPECT_THROW(m.validate(), InvalidInput);  // edges not increasing
+  m.bin_edges_c = Eigen::Vector2d(25.0, 26.0);
+  m.bin_weight = Eigen::MatrixXd::Constant(2, 2, 0.5);
+  EXPECT_THROW(m.validate(), InvalidInput);  // 3 bins need 3 rows
+}
+
+// EM on chain data recovers the transition matrix it was drawn from; the likelihood never falls.
+TEST(ExtendedEm, RecoversTheTransitionMatrix) {
+  const MixtureParameters truth = two_modes();
+  Eigen::Matrix2d a;
+  a << 0.92, 0.08, 0.12, 0.88;
+  const Eigen::Index k = 20000;
+  const Eigen::VectorXd e = draw_chain(truth, a, k, 3);
+  ExtendedMixture start = without_extensions(two_modes());
+  start.transition = Eigen::Matrix2d::Constant(0.5);
+  const ExtendedEmResult fit = train_extended_em(Eigen::MatrixXd(k, 0), e, Eigen::VectorXi::Zero(k),
+                                                 Eigen::VectorXd(0), start);
+  EXPECT_TRUE(fit.converged);
+  EXPECT_NEAR(fit.model.transition(0, 0), 0.92, 0.01);
+  EXPECT_NEAR(fit.model.transition(1, 1), 0.88, 0.015);
+  EXPECT_NEAR(fit.model.modes.mean[0], -1.0, 0.05);
+  EXPECT_NEAR(fit.model.modes.mean[1], 1.5, 0.05);
+  for (std::size_t i = 1; i < fit.log_likelihood_trace.size(); ++i) {
+    EXPECT_GE(fit.log_likelihood_trace[i], fit.log_likelihood_trace[i - 1] - 1e-8);
+  }
+}
+
+// Per-bin weights and variances, and a bias column, recovered together.
+TEST(ExtendedEm, RecoversBinWeightsVariancesAndBias) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Index k = 40000;
+  const Eigen::Vector2d weight_of_mode2(0.2, 0.7);  // bins below / above 26 °C
+  const Eigen::Vector2d spread(0.7, 1.4);           // σ of both modes per bin
+  Eigen::VectorXd t(k), y(k);
+  Eigen::MatrixXd h(k, 1);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    t[i] = 24.0 + 4.0 * u(rng);
+    const int bin = t[i] >= 26.0;
+    const int mode = u(rng) < weight_of_mode2[bin] ? 1 : 0;
+    h(i, 0) = t[i] - 26.0;
+    y[i] = -0.8 * h(i, 0) + (mode ? 2.0 : -2.0) + spread[bin] * n(rng);
+  }
+  ExtendedMixture start = without_extensions(two_modes());
+  start.bin_edges_c = Eigen::VectorXd::Constant(1, 26.0);
+  start.bin_weight = Eigen::MatrixXd::Constant(2, 2, 0.5);
+  start.bin_variance = Eigen::MatrixXd::Ones(2, 2);
+  const ExtendedEmResult fit =
+      train_extended_em(h, y, start.bin_of(t), Eigen::VectorXd::Zero(1), start);
+  EXPECT_NEAR(fit.theta[0], -0.8, 0.02);
+  EXPECT_NEAR(fit.model.modes.mean[0], -2.0, 0.05);
+  EXPECT_NEAR(fit.model.modes.mean[1], 2.0, 0.05);
+  EXPECT_NEAR(fit.model.bin_weight(0, 1), 0.2, 0.015);
+  EXPECT_NEAR(fit.model.bin_weight(1, 1), 0.7, 0.015);
+  EXPECT_NEAR(std::sqrt(fit.model.bin_variance(0, 0)), 0.7, 0.03);
+  EXPECT_NEAR(std::sqrt(fit.model.bin_variance(1, 1)), 1.4, 0.05);
+}
+
+TEST(ExtendedEm, RecoversTheOutlierWeight) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Index k = 20000;
+  Eigen::VectorXd e(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    e[i] = u(rng) < 0.03 ? -100.0 + 200.0 * u(rng) : (u(rng) < 0.6 ? -1.0 : 1.5) + n(rng);
+  }
+  ExtendedMixture start = without_extensions(two_modes());
+  start.outlier_weight = 0.01;
+  start.outlier_density = 1.0 / 200.0;
+  const ExtendedEmResult fit = train_extended_em(Eigen::MatrixXd(k, 0), e, Eigen::VectorXi::Zero(k),
+                                                 Eigen::VectorXd(0), start);
+  // Outliers that land among the modes (≈ 3 % × 6 mm / 200 mm) count as inliers.
+  EXPECT_NEAR(fit.model.outlier_weight, 0.03, 0.004);
+  EXPECT_NEAR(fit.model.modes.weight[0], 0.6, 0.03);
+}
+
+TEST(ExtendedEm, TestingWithoutExtensionsIsThePapersTesting) {
+  const Eigen::VectorXd e = draw_chain(two_modes(), Eigen::Matrix2d::Constant(0.5), 300, 6);
+  const Eigen::VectorXd y = e.array() + 3000.0;
+  const Eigen::VectorXd bias = Eigen::VectorXd::Constant(300, 0.25);
+  const EmTestResult paper = test_em(y, bias, two_modes());
+  const EmTestResult extended =
+      test_extended_em(y, bias, Eigen::VectorXi::Zero(300), without_extensions(two_modes()));
+  EXPECT_NEAR(extended.distance, paper.distance, 1e-9);
+  EXPECT_NEAR(extended.distance_std, paper.distance_std, 1e-9);
+}
+
+// A window's d̂ under the outlier component ignores the outliers; the paper's mixture is pulled.
+TEST(ExtendedEm, OutlierComponentProtectsTheDistance) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::VectorXd y(400);
+  for (Eigen::Index i = 0; i < 400; ++i) {  // the modes of two_modes(), 40 % in the second
+    y[i] = 3000.0 + (i % 5 < 2 ? 1.5 + std::sqrt(1.2) * n(rng) : -1.0 + std::sqrt(0.8) * n(rng));
+  }
+  for (Eigen::Index i = 0; i < 400; i += 40) y[i] = 3080.0;  // 10 outliers, 80 mm long
+  ExtendedMixture m = without_extensions(two_modes());
+  m.outlier_weight = 0.02;
+  m.outlier_density = 1.0 / 200.0;
+  const Eigen::VectorXd bias = Eigen::VectorXd::Zero(400);
+  const double protected_d = test_extended_em(y, bias, Eigen::VectorXi::Zero(400), m).distance;
+  const double pulled_d = test_em(y, bias, two_modes()).distance;
+  EXPECT_NEAR(protected_d, 3000.0, 0.15);
+  EXPECT_GT(std::abs(pulled_d - 3000.0), 3.0 * std::abs(protected_d - 3000.0))
+      << "protected " << protected_d << ", pulled " << pulled_d;
+}
+
+TEST(ExtendedEm, QuantileEdgesSplitEvenly) {
+  Eigen::VectorXd v(8);
+  v << 5, 1, 7, 3, 2, 8, 4, 6;
+  const Eigen::VectorXd edges = quantile_edges(v, 4);
+  ASSERT_EQ(edges.size(), 3);
+  EXPECT_EQ(edges[0], 3.0);
+  EXPECT_EQ(edges[1], 5.0);
+  EXPECT_EQ(edges[2], 7.0);
+  EXPECT_THROW(quantile_edges(Eigen::VectorXd::Constant(10, 1.0), 4), InvalidInput);
+}
+
+}  // namespace
+}  // namespace tofcomp::core
