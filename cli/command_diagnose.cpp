@@ -5,6 +5,7 @@
 #include "cli/command.hpp"
 #include "cli/covariate_extension.hpp"
 #include "cli/progress.hpp"
+#include "cli/report_options.hpp"
 #include "cli/shared_options.hpp"
 
 namespace tofcomp::cli {
@@ -27,8 +28,9 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("--stride", *stride, "Samples between held-out windows")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->callback([&common, &run, data, training, calibration, window, stride] {
-    run = [&common, data, training, calibration, window, stride] {
+  auto report = add_report_options(*cmd);
+  cmd->callback([&common, &run, data, training, calibration, window, stride, report] {
+    run = [&common, data, training, calibration, window, stride, report] {
       Progress progress("diagnose", !common.quiet);
       const MeasuredData measured = data->load();
       measured.require_true_ranges();
@@ -87,6 +89,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       } else if (any) {
         text += "extension: none fitted for this effect yet\n";
       }
+      report->write_if_requested(measured, training->settings(), result.json, !common.quiet);
       result.text = text;
       return result;
     };

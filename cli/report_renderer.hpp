@@ -1,0 +1,26 @@
+// Running the report's renderer: cli/report/diagnosis_report.py, a Python 3 script that draws
+// the figures with matplotlib (Agg) and writes DIR/index.html from the data in DIR/data/.
+//
+// Where the script is: beside the binary, at <directory of tofcomp>/../share/tofcomp/report/
+// (the relative path is TOFCOMP_REPORT_SCRIPT_FROM_BINDIR, set by cli/CMakeLists.txt from
+// GNUInstallDirs). `cmake --install` puts it at PREFIX/share/tofcomp/report/ next to
+// PREFIX/bin/tofcomp; the build copies it to build/share/tofcomp/report/ next to
+// build/cli/tofcomp, so both find it the same way.
+//
+// Which Python: $TOFCOMP_PYTHON when set; otherwise `python3` on PATH, then /usr/bin/python3
+// (Debian's, where python3-matplotlib installs), the first that imports matplotlib and numpy.
+#pragma once
+
+#include <filesystem>
+
+namespace tofcomp::cli {
+
+// The renderer script as this binary finds it. Throws core::Error naming where it looked.
+std::filesystem::path report_script_path();
+
+// Renders DIR (its data/ written beforehand) into DIR/figures/*.png and DIR/index.html. The
+// script's messages go to stderr. Throws core::Error when no Python with matplotlib and numpy
+// is found (naming what is missing and how to install it) or when the script fails.
+void render_report(const std::filesystem::path& directory);
+
+}  // namespace tofcomp::cli
