@@ -73,7 +73,7 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
 
   const TrainingResiduals residuals{t.junction.junction_c, train.range_mm - train.true_range_mm};
   const nlohmann::json glr = write_glr_data(
-      data_dir, residuals, report.max_glr_order, settings.em,
+      data_dir, residuals, report.glr_orders, settings.em,
       [&](double f) { progress.update(0.4 + 0.45 * f, "Algorithm 2 over the candidate bases"); });
   const nlohmann::json trace = write_em_test_trace(
       data_dir, test, compensation, t.calibration.model.noise, report.convergence_samples);
@@ -101,7 +101,7 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
   io::write_file_atomically(data_dir / "diagnosis.json", diagnosis.dump(2) + "\n");
 
   progress.update(0.9, "drawing the figures");
-  render_report(dir);
+  render_report(dir, show_progress);
   progress.done((dir / "index.html").string());
 }
 

@@ -32,13 +32,13 @@ struct Candidate {
   core::Basis basis;
 };
 
-std::vector<Candidate> glr_candidates(const Eigen::VectorXd& junction_c, int max_order,
+std::vector<Candidate> glr_candidates(const Eigen::VectorXd& junction_c, GlrOrders orders,
                                       double f0_per_c) {
   std::vector<Candidate> out;
-  for (int n = 1; n <= max_order; ++n) {
+  for (int n = 1; n <= orders.polynomial; ++n) {
     out.push_back({"polynomial", n, core::Basis::polynomial(n, junction_c)});
   }
-  for (int n = 1; n <= max_order; ++n) {
+  for (int n = 1; n <= orders.fourier; ++n) {
     out.push_back({"fourier", n, core::Basis::fourier(n, f0_per_c)});
   }
   return out;
@@ -47,15 +47,14 @@ std::vector<Candidate> glr_candidates(const Eigen::VectorXd& junction_c, int max
 }  // namespace
 
 nlohmann::json write_glr_data(const std::filesystem::path& directory,
-                              const TrainingResiduals& training, int max_order,
+                              const TrainingResiduals& training, GlrOrders orders,
                               const core::EmTrainOptions& em,
                               const std::function<void(double)>& progress) {
   const Clock::time_point start = Clock::now();
   const double span_c =
       std::max(training.junction_c.maxCoeff() - training.junction_c.minCoeff(), 1e-3);
   const double f0_per_c = 1.0 / (2.0 * span_c);
-  const std::vector<Candidate> candidates =
-      glr_candidates(training.junction_c, max_order, f0_per_c);
+  const std::vector<Candidate> candidates = glr_candidates(training.junction_c, orders, f0_per_c);
   core::SelectionOptions options;
   options.em = em;
   options.em.record_trace = false;
@@ -78,7 +77,8 @@ nlohmann::json write_glr_data(const std::filesystem::path& directory,
   }
   progress(1.0);
   io::write_file_atomically(directory / "glr.csv", csv);
-  return {{"max_order", max_order},
+  return {{"max_polynomial_order", orders.polynomial},
+          {"max_fourier_order", orders.fourier},
           {"fourier_f0_per_c", f0_per_c},
           {"training_samples", training.y_minus_d.size()},
           {"null_log_likelihood", null_log_likelihood},

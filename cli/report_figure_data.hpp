@@ -26,13 +26,18 @@ struct TrainingResiduals {
   Eigen::VectorXd y_minus_d;
 };
 
-// Fig. 9-10: Algorithm 2 (core::select_model) over polynomial orders 1..max_order (Eq. 9,
-// Legendre form) and Fourier orders 1..max_order (Eq. 11) with the fundamental f0 = 1 / (2 ×
+struct GlrOrders {
+  int polynomial = 16;
+  int fourier = 8;
+};
+
+// Fig. 9-10: Algorithm 2 (core::select_model) over polynomial orders 1..orders.polynomial (Eq. 9,
+// Legendre form) and Fourier orders 1..orders.fourier (Eq. 11) with the fundamental f0 = 1 / (2 ×
 // the span of the training temperatures), so that order 1 is one monotone half period over the
 // data. Returns what was run (candidates, f0, seconds) for the report. `progress` gets the
 // fraction done.
 nlohmann::json write_glr_data(const std::filesystem::path& directory,
-                              const TrainingResiduals& training, int max_order,
+                              const TrainingResiduals& training, GlrOrders orders,
                               const core::EmTrainOptions& em,
                               const std::function<void(double)>& progress);
 

@@ -66,11 +66,12 @@ std::filesystem::path report_script_path() {
   return script;
 }
 
-void render_report(const std::filesystem::path& directory) {
+void render_report(const std::filesystem::path& directory, bool show_progress) {
   const std::filesystem::path script = report_script_path();
   const std::string python = python_with_matplotlib(script);
-  const ChildOutcome run =
-      run_child({python, script.string(), directory.string()}, ChildStdout::ToStderr);
+  std::vector<std::string> argv{python, script.string(), directory.string()};
+  if (!show_progress) argv.push_back("--quiet");
+  const ChildOutcome run = run_child(argv, ChildStdout::ToStderr);
   if (!run.started || run.exit_code != 0) {
     throw core::Error("the report renderer " + script.string() + " failed on " +
                       directory.string() + " with exit code " + std::to_string(run.exit_code) +

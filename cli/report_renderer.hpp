@@ -19,8 +19,9 @@ namespace tofcomp::cli {
 std::filesystem::path report_script_path();
 
 // Renders DIR (its data/ written beforehand) into DIR/figures/*.png and DIR/index.html. The
-// script's messages go to stderr. Throws core::Error when no Python with matplotlib and numpy
-// is found (naming what is missing and how to install it) or when the script fails.
-void render_report(const std::filesystem::path& directory);
+// script's progress (when show_progress) and errors go to stderr. Throws core::Error when no Python
+// with matplotlib and numpy is found (naming what is missing and how to install it) or when the
+// script fails.
+void render_report(const std::filesystem::path& directory, bool show_progress);
 
 }  // namespace tofcomp::cli

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The renderer of `tofcomp diagnose --report DIR` (cli/report_renderer.hpp runs it).
 
-    diagnosis_report.py DIR       draws DIR/figures/*.png from DIR/data/ and writes DIR/index.html
+    diagnosis_report.py [--quiet] DIR   draws DIR/figures/*.png from DIR/data/ and writes
+                                        DIR/index.html (progress on stderr unless --quiet)
     diagnosis_report.py --check   exits 0 when numpy and matplotlib import, 3 (naming what is
                                   missing) otherwise
 
@@ -30,11 +31,7 @@ def missing_modules():
     return missing
 
 
-def progress(message):
-    print(f"report: {message}", file=sys.stderr, flush=True)
-
-
-def render(directory):
+def render(directory, quiet):
     from report_data import ReportInputError, load_report_data
     from report_figures import draw_figures
     from report_html import write_page
@@ -44,6 +41,10 @@ def render(directory):
     except ReportInputError as e:
         print(f"diagnosis_report: error: {e}", file=sys.stderr)
         return 1
+    def progress(message):
+        if not quiet:
+            print(f"report: {message}", file=sys.stderr, flush=True)
+
     figures, skipped = draw_figures(data, directory, lambda m: progress(f"drawing {m}"))
     page = os.path.join(directory, "index.html")
     write_page(page, data, figures, skipped)
@@ -52,21 +53,22 @@ def render(directory):
 
 
 def main(argv):
-    if len(argv) != 2 or argv[1] in ("-h", "--help"):
+    quiet = "--quiet" in argv[1:]
+    arguments = [a for a in argv[1:] if a != "--quiet"]
+    if len(arguments) != 1 or arguments[0] in ("-h", "--help"):
         print(__doc__, file=sys.stderr)
         return 2
+    check = arguments[0] == "--check"
     missing = missing_modules()
     if missing:
         message = f"{sys.executable} lacks the Python module(s) {', '.join(missing)}"
-        if argv[1] == "--check":
+        if check:
             print(message)
         else:
             print(f"diagnosis_report: error: {message}; install them with "
                   f"apt-get install python3-matplotlib python3-numpy", file=sys.stderr)
         return MISSING_MODULE_EXIT
-    if argv[1] == "--check":
-        return 0
-    return render(argv[1])
+    return 0 if check else render(arguments[0], quiet)
 
 
 if __name__ == "__main__":

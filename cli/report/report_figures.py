@@ -41,6 +41,11 @@ class Figure:
     number: str = ""  # the paper's figure number, set by draw_figures from FIGURES
 
 
+def _legend_right(ax, **options):
+    """The legend beside the axes, where it hides no data."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **options)
+
+
 def _save(fig, directory, name):
     relative = os.path.join("figures", name)
     fig.savefig(os.path.join(directory, relative), dpi=DPI, bbox_inches="tight")
@@ -81,7 +86,7 @@ def histogram(data, directory):
     compensated = raw - s["bias_mm"]
     width = _resolution_mm(s["range_mm"])
     bins = _bins(np.concatenate([raw, compensated]), width)
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(6, 4))
     ax.hist(compensated, bins, color="0.7", label=r"$y - d - H\hat{\theta}$ (temperature bias removed)")
     ax.hist(raw, bins, histtype="step", color="k", linewidth=1.2, label=r"$y - d$ (raw)")
     modes = _modes(data.context)
@@ -100,7 +105,7 @@ def histogram(data, directory):
     ax.set_xlabel("range error (mm)")
     ax.set_ylabel(f"ranges per {width:g} mm bin")
     ax.set_title("Histogram of the held-out ranges")
-    ax.legend(loc="upper left", framealpha=0.9)
+    _legend_right(ax)
     return Figure("histogram of consecutive ranges at equilibrium", _save(fig, directory, "fig03_histogram.png"),
                   f"The errors y − d of the {raw.size} held-out ranges (outline) and the same with "
                   f"the trained temperature bias Hθ̂ removed (grey), against the trained mixture of "
@@ -113,7 +118,7 @@ def bias_against_temperature(data, directory):
     s = data.samples
     raw = _range_error(s)
     width = _resolution_mm(s["range_mm"])
-    fig, ax = plt.subplots(figsize=(7, 4.2))
+    fig, ax = plt.subplots(figsize=(6, 4.2))
     counts, _, _, image = ax.hist2d(s["junction_c"], raw, bins=[60, _bins(raw, width)], cmap="Greys",
                                     cmin=1)
     fig.colorbar(image, ax=ax, label="ranges per cell")
@@ -134,13 +139,13 @@ def thermal_fit(data, directory):
     if t is None or t["time_s"].size == 0:
         return None
     hours = t["time_s"] / 3600.0
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 5), sharex=True,
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6, 5), sharex=True,
                                       gridspec_kw={"height_ratios": [3, 1]})
     top.plot(hours, t["measured_case_c"], color="0.55", linewidth=1, label=r"measured case $t^s$")
     top.plot(hours, t["predicted_case_c"], color="#1f4e9c", linewidth=1.4,
              label="predicted by the identified model (Eq. 5)")
     top.set_ylabel("case temperature (°C)")
-    top.legend(loc="lower right")
+    _legend_right(top)
     top.set_title("Thermal model on the held-out power cycles")
     bottom.plot(hours, t["predicted_case_c"] - t["measured_case_c"], color="k", linewidth=0.8)
     bottom.set_ylabel("error (°C)")
@@ -148,13 +153,17 @@ def thermal_fit(data, directory):
     fit = data.context.get("thermal_fit", {})
     paper = fit.get("held_out_paper_fit_percent")
     nrmse = fit.get("held_out_nrmse_fit_percent")
-    numbers = (f" Fit on these cycles: {paper:.3f} % by Eq. 26 (the paper: 92.79 %), "
+    numbers = (f" Fit on these cycles: {paper:.5f} % by Eq. 26 (the paper: 92.79 %), "
                f"{nrmse:.2f} % NRMSE." if paper is not None and nrmse is not None else "")
     return Figure("validation of the thermal model Eq. 5",
                   _save(fig, directory, "fig08_thermal_fit.png"),
                   "The model identified on the first half (Algorithm 1, then the prediction-error "
                   "fit) driven by the power inputs of the held-out half, against the measured case "
                   "temperature; below, the prediction error." + numbers)
+
+
+def _family_name(family):
+    return "Fourier" if family == "fourier" else family
 
 
 def _glr_family(data, family):
@@ -171,7 +180,7 @@ def _glr(data, directory, family, name, paper):
     orders, glr, bic, held_out, failed = _glr_family(data, family)
     if orders.size == 0:
         return None
-    fig, ax = plt.subplots(figsize=(7, 3.8))
+    fig, ax = plt.subplots(figsize=(6, 3.8))
     ax.plot(orders, glr, marker="o", color="#1f4e9c", label="GLR 2(ℓᵢ − ℓ₀) (Eq. 27-29)")
     best_glr, best_bic, best_held = (orders[np.argmax(glr)], orders[np.argmin(bic)],
                                      orders[np.argmax(held_out)])
@@ -180,18 +189,18 @@ def _glr(data, directory, family, name, paper):
     ax.axvline(best_bic, color="#2a9d8f", linestyle="--", label=f"smallest BIC: order {best_bic}")
     ax.axvline(best_held, color="#e9a03b", linestyle=":", linewidth=2,
                label=f"best held-out likelihood: order {best_held}")
-    ax.set_xlabel(f"{family} order N of H (Eq. {'9' if family == 'polynomial' else '11'})")
+    ax.set_xlabel(f"{_family_name(family)} order N of H (Eq. {'9' if family == 'polynomial' else '11'})")
     ax.set_ylabel("generalized likelihood ratio")
     ax.set_xticks(orders)
     f0 = data.context.get("glr", {}).get("fourier_f0_per_c")
     suffix = f", f0 = {f0:.3g} /°C" if family == "fourier" and f0 is not None else ""
-    ax.set_title(f"Algorithm 2 over {family} bases{suffix}")
-    ax.legend(loc="lower right")
+    ax.set_title(f"Algorithm 2 over {_family_name(family)} bases{suffix}")
+    _legend_right(ax)
     failures = (f" Training failed for order(s) {', '.join(str(o) for o in failed)}."
                 if failed.size else "")
     n = data.context.get("glr", {}).get("training_samples", "the")
     return Figure(paper, _save(fig, directory, name),
-                  f"The GLR of each {family} basis against the single-Gaussian null (Eq. 28), "
+                  f"The GLR of each {_family_name(family)} basis against the single-Gaussian null (Eq. 28), "
                   f"trained by EM on the {n} training ranges. The GLR grows with every nested "
                   f"order, so the largest is the largest order; BIC and the likelihood of "
                   f"held-out blocks do not, and are the criteria to trust.{failures}")
@@ -216,7 +225,7 @@ def mode_assignment(data, directory):
     mode = most_probable_mode(s)
     modes = _modes(data.context)
     order = np.argsort(s["junction_c"])
-    fig, ax = plt.subplots(figsize=(7, 4.2))
+    fig, ax = plt.subplots(figsize=(6, 4.2))
     for i in range(mode_count(s)):
         chosen = mode == i
         ax.scatter(s["junction_c"][chosen], raw[chosen], s=3, alpha=0.35, color=MODE_COLOURS[i % 4],
@@ -230,7 +239,7 @@ def mode_assignment(data, directory):
     ax.set_xlabel(r"estimated junction temperature $\hat{t}^j$ (°C)")
     ax.set_ylabel(r"range error $y - d$ (mm)")
     ax.set_title("Lasing modes assigned by EM testing")
-    ax.legend(loc="best", markerscale=4, framealpha=0.9)
+    _legend_right(ax, markerscale=4)
     return Figure("EM testing on real data: modes and temperature bias",
                   _save(fig, directory, "fig11_mode_assignment.png"),
                   "Each held-out range error against t̂ʲ, coloured by its most probable lasing mode "
@@ -254,14 +263,14 @@ def distribution_before_after(data, directory):
         (s["compensated_mm"] - s["true_range_mm"], r"$y - d - H\hat{\theta} - \hat{\mu}_{\hat{\imath}}$ (mode removed)",
          "#1f4e9c"),
     ]
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(6, 4))
     for values, label, colour in stages:
         x, p = _ecdf(values)
         ax.step(x, p, where="post", color=colour, label=f"{label}: std {np.std(values):.2f} mm")
     ax.set_xlabel("range error (mm)")
     ax.set_ylabel("cumulative share of ranges")
     ax.set_title("Distribution before and after the compensation")
-    ax.legend(loc="lower right")
+    _legend_right(ax)
     before, after = np.std(raw), np.std(stages[2][0])
     return Figure("effect of compensating raw data with the biases of each sample's mode",
                   _save(fig, directory, "fig12_distribution.png"),
@@ -277,7 +286,7 @@ def em_training_convergence(data, directory):
     if c is None or c["iteration"].size == 0:
         return None
     modes = sum(1 for name in c if name.startswith("mean"))
-    fig, axes = plt.subplots(3, 1, figsize=(7, 6.5), sharex=True)
+    fig, axes = plt.subplots(3, 1, figsize=(6, 6.5), sharex=True)
     for i in range(modes):
         colour = MODE_COLOURS[i % 4]
         axes[0].plot(c["iteration"], c[f"mean{i + 1}_mm"], color=colour, label=rf"$\hat{{\mu}}_{i + 1}$")
@@ -287,14 +296,16 @@ def em_training_convergence(data, directory):
     axes[1].set_ylabel("mode weight")
     axes[2].set_ylabel("log-likelihood")
     axes[2].set_xlabel("EM training iteration (§5, Eq. 18-19)")
-    axes[0].legend(loc="right")
-    axes[1].legend(loc="right")
+    _legend_right(axes[0])
+    _legend_right(axes[1])
     axes[0].set_title("EM training")
     n = data.context.get("training_samples", "the")
+    iterations = data.context.get("em_training_iterations", c["iteration"].size - 1)
     return Figure("convergence of the estimated means during training",
                   _save(fig, directory, "fig13_em_training.png"),
                   f"The mode offsets μ̂ᵢ, weights π̂ᵢ and the log-likelihood at each EM training "
-                  f"iteration on the {n} training ranges, {c['iteration'].size} iterations in all.")
+                  f"iteration on the {n} training ranges (iteration 0: the start), {iterations} "
+                  f"iterations in all.")
 
 
 def em_testing_convergence(data, directory):
@@ -303,13 +314,13 @@ def em_testing_convergence(data, directory):
     if t is None or t["iteration"].size == 0:
         return None
     error = t["distance_mm"] - t["true_range_mm"]
-    fig, ax = plt.subplots(figsize=(7, 3.6))
+    fig, ax = plt.subplots(figsize=(6, 3.6))
     ax.plot(t["iteration"], error, marker="o", color="#1f4e9c", label=r"$\hat{d} - d$")
     ax.axhline(0.0, color="k", linewidth=1, label="true distance")
     ax.set_xlabel("EM testing iteration (§6, Eq. 22-23; 0: the start, the mean of y)")
     ax.set_ylabel(r"$\hat{d} - d$ (mm)")
     ax.set_title("EM testing")
-    ax.legend(loc="right")
+    _legend_right(ax)
     n = data.context.get("em_test_trace", {}).get("samples", "the")
     return Figure("convergence of the estimated distance during testing",
                   _save(fig, directory, "fig14_em_testing.png"),
@@ -323,7 +334,7 @@ def em_testing_cost(data, directory):
     c = data.em_test_cost
     if c is None or c["samples"].size == 0:
         return None
-    fig, ax = plt.subplots(figsize=(7, 3.8))
+    fig, ax = plt.subplots(figsize=(6, 3.8))
     exponents = []
     for i, order in enumerate(sorted(set(c["fourier_order"].astype(int)))):
         chosen = c["fourier_order"] == order
@@ -337,7 +348,7 @@ def em_testing_cost(data, directory):
     ax.set_ylabel(f"time of {steps} EM test steps (ms)")
     ax.set_title("Cost of EM testing")
     ax.set_ylim(bottom=0)
-    ax.legend(loc="upper left")
+    _legend_right(ax)
     return Figure("computational cost of EM testing for two Fourier orders",
                   _save(fig, directory, "fig15_cost.png"),
                   f"Measured wall time (the best of five runs on this machine) of computing Hθ̂ and "
@@ -356,7 +367,7 @@ def estimates_by_window(data, directory):
     lengths = [w for w in data.context.get("windows", []) if w in data.windows]
     if not lengths:
         return None
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(6, 4))
     for i, w in enumerate(lengths):
         x, p = _ecdf(_window_error(data.windows[w], "em_distance_mm"))
         ax.step(x, p, where="post", color=MODE_COLOURS[i % 4], label=f"windows of {w} ranges ({x.size})")
@@ -364,7 +375,7 @@ def estimates_by_window(data, directory):
     ax.set_xlabel(r"$\hat{d} - d$ (mm)")
     ax.set_ylabel("cumulative share of windows")
     ax.set_title(r"Estimates $\hat{d}$ by window length")
-    ax.legend(loc="lower right")
+    _legend_right(ax)
     stride = data.context.get("stride", 1)
     which = "every window" if stride == 1 else f"windows {stride} ranges apart"
     return Figure("cumulative distributions of d̂ for different test sample sizes",
@@ -383,14 +394,14 @@ def errors_over_time(data, directory):
     table = data.windows[w]
     start = table["start"].astype(int)
     hours = data.samples["time_s"][start] / 3600.0
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 5.5), sharex=True,
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6, 5.5), sharex=True,
                                       gridspec_kw={"height_ratios": [2, 1]})
     for column, label, colour in ESTIMATORS:
         top.plot(hours, _window_error(table, column + "_mm"), color=colour, linewidth=1, label=label)
     top.axhline(0.0, color="k", linewidth=0.8)
     top.set_ylabel("error of the estimate (mm)")
     top.set_title(f"Errors of the three estimators, windows of {w} ranges")
-    top.legend(loc="best")
+    _legend_right(top)
     bottom.plot(hours, data.samples["junction_c"][start], color="k")
     bottom.set_ylabel(r"$\hat{t}^j$ at the window's start (°C)")
     bottom.set_xlabel("time of the window's first range since the start of the record (h)")
@@ -405,7 +416,7 @@ def _moments(data, directory, name, paper, columns, caption, zero_line):
     m = data.moments
     if m is None or m["window"].size == 0:
         return None
-    fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+    fig, axes = plt.subplots(2, 1, figsize=(6, 6), sharex=True)
     for ax, (column, label) in zip(axes, columns):
         for estimator, legend, colour in ESTIMATORS:
             chosen = m["estimator"] == estimator
@@ -413,7 +424,7 @@ def _moments(data, directory, name, paper, columns, caption, zero_line):
         ax.set_ylabel(label)
     if zero_line:
         axes[0].axhline(0.0, color="k", linewidth=0.8)
-    axes[0].legend(loc="best")
+    _legend_right(axes[0])
     axes[1].set_xlabel("window length (ranges in the test set)")
     axes[0].set_title(paper[0].upper() + paper[1:])
     return Figure(paper, _save(fig, directory, name), caption)
