@@ -42,6 +42,7 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
                             const TrainSettings& settings, const nlohmann::json& diagnosis,
                             const ReportSettings& report, bool show_progress) {
   const std::filesystem::path dir = make_report_directory(directory);
+  const ReportRenderer renderer = find_report_renderer();
   const std::filesystem::path data_dir = dir / "data";
   Progress progress("report", show_progress);
 
@@ -101,7 +102,7 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
   io::write_file_atomically(data_dir / "diagnosis.json", diagnosis.dump(2) + "\n");
 
   progress.update(0.9, "drawing the figures");
-  render_report(dir, show_progress);
+  renderer.render(dir, show_progress);
   progress.done((dir / "index.html").string());
 }
 

@@ -48,8 +48,7 @@ std::string python_with_matplotlib(const std::filesystem::path& script) {
       "tools/setup.sh does it), or set TOFCOMP_PYTHON to a Python 3 that has both");
 }
 
-}  // namespace
-
+// The script beside the binary (see the header); throws naming where it looked.
 std::filesystem::path report_script_path() {
   std::error_code error;
   const std::filesystem::path binary = std::filesystem::read_symlink("/proc/self/exe", error);
@@ -66,9 +65,16 @@ std::filesystem::path report_script_path() {
   return script;
 }
 
-void render_report(const std::filesystem::path& directory, bool show_progress) {
-  const std::filesystem::path script = report_script_path();
-  const std::string python = python_with_matplotlib(script);
+}  // namespace
+
+ReportRenderer find_report_renderer() {
+  ReportRenderer renderer;
+  renderer.script = report_script_path();
+  renderer.python = python_with_matplotlib(renderer.script);
+  return renderer;
+}
+
+void ReportRenderer::render(const std::filesystem::path& directory, bool show_progress) const {
   std::vector<std::string> argv{python, script.string(), directory.string()};
   if (!show_progress) argv.push_back("--quiet");
   const ChildOutcome run = run_child(argv, ChildStdout::ToStderr);

@@ -12,16 +12,23 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 namespace tofcomp::cli {
 
-// The renderer script as this binary finds it. Throws core::Error naming where it looked.
-std::filesystem::path report_script_path();
+struct ReportRenderer {
+  std::filesystem::path script;
+  std::string python;  // an interpreter that has matplotlib and numpy
 
-// Renders DIR (its data/ written beforehand) into DIR/figures/*.png and DIR/index.html. The
-// script's progress (when show_progress) and errors go to stderr. Throws core::Error when no Python
-// with matplotlib and numpy is found (naming what is missing and how to install it) or when the
-// script fails.
-void render_report(const std::filesystem::path& directory, bool show_progress);
+  // Renders DIR (its data/ written beforehand) into DIR/figures/*.png and DIR/index.html. The
+  // script's progress (when show_progress) and errors go to stderr. Throws core::Error when
+  // the script fails.
+  void render(const std::filesystem::path& directory, bool show_progress) const;
+};
+
+// The renderer script as this binary finds it, and the Python to run it: found before any
+// long work, so that a missing piece fails at once. Throws core::Error naming where the script
+// was looked for, or what each Python lacks and how to install it.
+ReportRenderer find_report_renderer();
 
 }  // namespace tofcomp::cli
