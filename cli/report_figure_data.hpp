@@ -49,7 +49,9 @@ nlohmann::json write_em_test_trace(const std::filesystem::path& directory, const
 
 // Fig. 15: the wall time of EM testing (the bias H θ̂ from t̂^j, then `steps` iterations of
 // Eq. 22-23) on the first K test ranges, K over a grid up to the test part's length, for a model
-// of each of the two Fourier orders, each trained on `training`. The best of a few repetitions.
+// of each Fourier order, each trained on `training`. The best of a few repetitions. An order
+// whose training fails (a singular normal matrix on data spanning few temperatures) is left out,
+// its reason in the returned "left_out".
 nlohmann::json write_em_test_cost(const std::filesystem::path& directory,
                                   const TrainingResiduals& training, const MeasuredData& test,
                                   const Compensation& compensation,

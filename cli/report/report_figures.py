@@ -343,7 +343,10 @@ def em_testing_cost(data, directory):
         exponents.append(f"order {order}: {exponent:.2f}")
         ax.plot(k, seconds * 1e3, marker="o", color=MODE_COLOURS[i % 4],
                 label=f"Fourier order {order} ({2 * order} columns); growth exponent {exponent:.2f}")
-    steps = data.context.get("em_test_cost", {}).get("steps", "")
+    cost = data.context.get("em_test_cost", {})
+    steps = cost.get("steps", "")
+    left_out = "".join(f" Not timed: {item['basis']}, whose training failed ({item['error']})."
+                       for item in cost.get("left_out", []))
     ax.set_xlabel("ranges in the test set K")
     ax.set_ylabel(f"time of {steps} EM test steps (ms)")
     ax.set_title("Cost of EM testing")
@@ -355,7 +358,7 @@ def em_testing_cost(data, directory):
                   f"{steps} EM test steps on the first K held-out ranges, for two trained Fourier "
                   f"models. The paper found quadratic growth; here each step costs O(K), so the "
                   f"fitted exponent of time ∝ Kᵃ is near 1 ({'; '.join(exponents)}), and the "
-                  f"order matters little.")
+                  f"order matters little.{left_out}")
 
 
 def _window_error(table, column):
