@@ -20,7 +20,8 @@ DPI = 110
 MODE_COLOURS = ["#1f4e9c", "#d1495b", "#2a9d8f", "#e9a03b"]
 ESTIMATORS = [  # the three estimators of §8.4, Fig. 17-19
     ("raw_mean", r"$\bar{y}$ (window mean of raw ranges)", "#d1495b"),
-    ("bias_corrected_mean", r"$\overline{y - H\hat{\theta}}$ (temperature bias removed)", "#e9a03b"),
+    ("bias_corrected_mean", r"$\overline{y - H\hat{\theta}}$ (temperature bias removed)",
+     "#e9a03b"),
     ("em_distance", r"$\hat{d}$ (EM testing, §6)", "#1f4e9c"),
 ]
 
@@ -87,7 +88,8 @@ def histogram(data, directory):
     width = _resolution_mm(s["range_mm"])
     bins = _bins(np.concatenate([raw, compensated]), width)
     fig, ax = plt.subplots(figsize=(6, 4))
-    ax.hist(compensated, bins, color="0.7", label=r"$y - d - H\hat{\theta}$ (temperature bias removed)")
+    ax.hist(compensated, bins, color="0.7",
+            label=r"$y - d - H\hat{\theta}$ (temperature bias removed)")
     ax.hist(raw, bins, histtype="step", color="k", linewidth=1.2, label=r"$y - d$ (raw)")
     modes = _modes(data.context)
     x = np.linspace(bins[0], bins[-1], 600)
@@ -106,11 +108,12 @@ def histogram(data, directory):
     ax.set_ylabel(f"ranges per {width:g} mm bin")
     ax.set_title("Histogram of the held-out ranges")
     _legend_right(ax)
-    return Figure("histogram of consecutive ranges at equilibrium", _save(fig, directory, "fig03_histogram.png"),
-                  f"The errors y − d of the {raw.size} held-out ranges (outline) and the same with "
-                  f"the trained temperature bias Hθ̂ removed (grey), against the trained mixture of "
-                  f"{len(modes)} lasing modes. Junction {_temperature_span(s)}; bins of {width:g} mm, "
-                  f"the scanner's range step.")
+    return Figure("histogram of consecutive ranges at equilibrium",
+                  _save(fig, directory, "fig03_histogram.png"),
+                  f"The errors y − d of the {raw.size} held-out ranges (outline) and the same "
+                  f"with the trained temperature bias Hθ̂ removed (grey), against the trained "
+                  f"mixture of {len(modes)} lasing modes. Junction {_temperature_span(s)}; bins of "
+                  f"{width:g} mm, the scanner's range step.")
 
 
 def bias_against_temperature(data, directory):
@@ -119,8 +122,8 @@ def bias_against_temperature(data, directory):
     raw = _range_error(s)
     width = _resolution_mm(s["range_mm"])
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    counts, _, _, image = ax.hist2d(s["junction_c"], raw, bins=[60, _bins(raw, width)], cmap="Greys",
-                                    cmin=1)
+    _, _, _, image = ax.hist2d(s["junction_c"], raw, bins=[60, _bins(raw, width)],
+                               cmap="Greys", cmin=1)
     fig.colorbar(image, ax=ax, label="ranges per cell")
     ax.set_xlabel(r"estimated junction temperature $\hat{t}^j$ (°C)")
     ax.set_ylabel(r"range error $y - d$ (mm)")
@@ -189,7 +192,8 @@ def _glr(data, directory, family, name, paper):
     ax.axvline(best_bic, color="#2a9d8f", linestyle="--", label=f"smallest BIC: order {best_bic}")
     ax.axvline(best_held, color="#e9a03b", linestyle=":", linewidth=2,
                label=f"best held-out likelihood: order {best_held}")
-    ax.set_xlabel(f"{_family_name(family)} order N of H (Eq. {'9' if family == 'polynomial' else '11'})")
+    equation = "9" if family == "polynomial" else "11"
+    ax.set_xlabel(f"{_family_name(family)} order N of H (Eq. {equation})")
     ax.set_ylabel("generalized likelihood ratio")
     ax.set_xticks(orders)
     f0 = data.context.get("glr", {}).get("fourier_f0_per_c")
@@ -200,10 +204,11 @@ def _glr(data, directory, family, name, paper):
                 if failed.size else "")
     n = data.context.get("glr", {}).get("training_samples", "the")
     return Figure(paper, _save(fig, directory, name),
-                  f"The GLR of each {_family_name(family)} basis against the single-Gaussian null (Eq. 28), "
-                  f"trained by EM on the {n} training ranges. The GLR grows with every nested "
-                  f"order, so the largest is the largest order; BIC and the likelihood of "
-                  f"held-out blocks do not, and are the criteria to trust.{failures}")
+                  f"The GLR of each {_family_name(family)} basis against the single-Gaussian "
+                  f"null (Eq. 28), trained by EM on the {n} training ranges. The GLR grows with "
+                  f"every nested order, so the largest is the largest order; BIC and the "
+                  f"likelihood of held-out blocks do not, and are the criteria to trust."
+                  f"{failures}")
 
 
 def glr_polynomial(data, directory):
@@ -242,10 +247,10 @@ def mode_assignment(data, directory):
     _legend_right(ax, markerscale=4)
     return Figure("EM testing on real data: modes and temperature bias",
                   _save(fig, directory, "fig11_mode_assignment.png"),
-                  "Each held-out range error against t̂ʲ, coloured by its most probable lasing mode "
-                  "(the posterior Δ̂ of Eq. 22 at the EM estimate of the whole held-out record), "
-                  "with the trained temperature bias Hθ̂ (solid) and each mode's offset on it "
-                  "(dashed).")
+                  "Each held-out range error against t̂ʲ, coloured by its most probable lasing "
+                  "mode (the posterior Δ̂ of Eq. 22 at the EM estimate of the whole held-out "
+                  "record), with the trained temperature bias Hθ̂ (solid) and each mode's offset "
+                  "on it (dashed).")
 
 
 def _ecdf(values):
@@ -260,8 +265,8 @@ def distribution_before_after(data, directory):
     stages = [
         (raw, r"raw $y - d$", "#d1495b"),
         (raw - s["bias_mm"], r"$y - d - H\hat{\theta}$", "#e9a03b"),
-        (s["compensated_mm"] - s["true_range_mm"], r"$y - d - H\hat{\theta} - \hat{\mu}_{\hat{\imath}}$ (mode removed)",
-         "#1f4e9c"),
+        (s["compensated_mm"] - s["true_range_mm"],
+         r"$y - d - H\hat{\theta} - \hat{\mu}_{\hat{\imath}}$ (mode removed)", "#1f4e9c"),
     ]
     fig, ax = plt.subplots(figsize=(6, 4))
     for values, label, colour in stages:
@@ -289,8 +294,10 @@ def em_training_convergence(data, directory):
     fig, axes = plt.subplots(3, 1, figsize=(6, 6.5), sharex=True)
     for i in range(modes):
         colour = MODE_COLOURS[i % 4]
-        axes[0].plot(c["iteration"], c[f"mean{i + 1}_mm"], color=colour, label=rf"$\hat{{\mu}}_{i + 1}$")
-        axes[1].plot(c["iteration"], c[f"weight{i + 1}"], color=colour, label=rf"$\hat{{\pi}}_{i + 1}$")
+        axes[0].plot(c["iteration"], c[f"mean{i + 1}_mm"], color=colour,
+                     label=rf"$\hat{{\mu}}_{i + 1}$")
+        axes[1].plot(c["iteration"], c[f"weight{i + 1}"], color=colour,
+                     label=rf"$\hat{{\pi}}_{i + 1}$")
     axes[2].plot(c["iteration"], c["log_likelihood"], color="k")
     axes[0].set_ylabel("mode offset (mm)")
     axes[1].set_ylabel("mode weight")
@@ -324,9 +331,9 @@ def em_testing_convergence(data, directory):
     n = data.context.get("em_test_trace", {}).get("samples", "the")
     return Figure("convergence of the estimated distance during testing",
                   _save(fig, directory, "fig14_em_testing.png"),
-                  f"The error of d̂ after each EM testing iteration on the first {n} held-out ranges "
-                  f"(the paper's test set had 4000), started as §6 prescribes from the mean of the "
-                  f"ranges; it ends {error[-1]:+.3f} mm from the true distance.")
+                  f"The error of d̂ after each EM testing iteration on the first {n} held-out "
+                  f"ranges (the paper's test set had 4000), started as §6 prescribes from the "
+                  f"mean of the ranges; it ends {error[-1]:+.3f} mm from the true distance.")
 
 
 def em_testing_cost(data, directory):
@@ -342,7 +349,8 @@ def em_testing_cost(data, directory):
         exponent = np.polyfit(np.log(k), np.log(seconds), 1)[0] if k.size > 1 else float("nan")
         exponents.append(f"order {order}: {exponent:.2f}")
         ax.plot(k, seconds * 1e3, marker="o", color=MODE_COLOURS[i % 4],
-                label=f"Fourier order {order} ({2 * order} columns); growth exponent {exponent:.2f}")
+                label=f"Fourier order {order} ({2 * order} columns); "
+                      f"growth exponent {exponent:.2f}")
     cost = data.context.get("em_test_cost", {})
     steps = cost.get("steps", "")
     left_out = "".join(f" Not timed: {item['basis']}, whose training failed ({item['error']})."
@@ -354,11 +362,11 @@ def em_testing_cost(data, directory):
     _legend_right(ax)
     return Figure("computational cost of EM testing for two Fourier orders",
                   _save(fig, directory, "fig15_cost.png"),
-                  f"Measured wall time (the best of five runs on this machine) of computing Hθ̂ and "
-                  f"{steps} EM test steps on the first K held-out ranges, for two trained Fourier "
-                  f"models. The paper found quadratic growth; here each step costs O(K), so the "
-                  f"fitted exponent of time ∝ Kᵃ is near 1 ({'; '.join(exponents)}), and the "
-                  f"order matters little.{left_out}")
+                  f"Measured wall time (the best of {cost.get('repetitions', 'a few')} runs on "
+                  f"this machine) of computing Hθ̂ and {steps} EM test steps on the first K "
+                  f"held-out ranges, for each trained Fourier model. The paper found quadratic "
+                  f"growth; here each step costs O(K), so the fitted exponent of time ∝ Kᵃ is near "
+                  f"1 ({'; '.join(exponents)}), and the order matters little.{left_out}")
 
 
 def _window_error(table, column):
@@ -373,7 +381,8 @@ def estimates_by_window(data, directory):
     fig, ax = plt.subplots(figsize=(6, 4))
     for i, w in enumerate(lengths):
         x, p = _ecdf(_window_error(data.windows[w], "em_distance_mm"))
-        ax.step(x, p, where="post", color=MODE_COLOURS[i % 4], label=f"windows of {w} ranges ({x.size})")
+        ax.step(x, p, where="post", color=MODE_COLOURS[i % 4],
+                label=f"windows of {w} ranges ({x.size})")
     ax.axvline(0.0, color="k", linewidth=1)
     ax.set_xlabel(r"$\hat{d} - d$ (mm)")
     ax.set_ylabel("cumulative share of windows")
@@ -400,7 +409,8 @@ def errors_over_time(data, directory):
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(6, 5.5), sharex=True,
                                       gridspec_kw={"height_ratios": [2, 1]})
     for column, label, colour in ESTIMATORS:
-        top.plot(hours, _window_error(table, column + "_mm"), color=colour, linewidth=1, label=label)
+        top.plot(hours, _window_error(table, column + "_mm"), color=colour, linewidth=1,
+                 label=label)
     top.axhline(0.0, color="k", linewidth=0.8)
     top.set_ylabel("error of the estimate (mm)")
     top.set_title(f"Errors of the three estimators, windows of {w} ranges")
@@ -437,7 +447,8 @@ def error_moments(data, directory):
     """Fig. 18: mean and variance of the error against the window length."""
     return _moments(data, directory, "fig18_error_moments.png",
                     "moments of the error against the test sample size",
-                    [("mean_error_mm", "mean error (mm)"), ("error_variance_mm2", "variance of the error (mm²)")],
+                    [("mean_error_mm", "mean error (mm)"),
+                     ("error_variance_mm2", "variance of the error (mm²)")],
                     "Per window length, the mean (above) and variance (below) of each estimator's "
                     f"error over the held-out windows. Junction {_temperature_span(data.samples)}.",
                     zero_line=True)

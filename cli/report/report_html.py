@@ -246,8 +246,9 @@ def run_section(data):
         f"Windows: {_e(', '.join(str(w) for w in c.get('windows', [])))} (Fig. 16-17 and the "
         f"tables), {_e(', '.join(str(w) for w in c.get('moment_windows', [])))} (Fig. 18-19); "
         f"window starts {_e(c.get('stride', '–'))} range(s) apart.",
-        f"Algorithm 2 (Fig. 9-10): polynomial orders 1..{_e(glr.get('max_polynomial_order', '–'))} "
-        f"(Legendre form) and Fourier orders 1..{_e(glr.get('max_fourier_order', '–'))} with "
+        f"Algorithm 2 (Fig. 9-10): polynomial orders "
+        f"1..{_e(glr.get('max_polynomial_order', '–'))} (Legendre form) and Fourier orders "
+        f"1..{_e(glr.get('max_fourier_order', '–'))} with "
         f"f0 = {_e(_number(glr.get('fourier_f0_per_c'), '.4g'))} /°C (half a period over the "
         f"training temperatures), each trained on {_e(glr.get('training_samples', '–'))} ranges; "
         f"{_e(_number(glr.get('seconds'), '.1f'))} s in all.",

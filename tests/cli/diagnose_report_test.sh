@@ -20,7 +20,8 @@ python=""
 for candidate in ${TOFCOMP_PYTHON:-} python3 /usr/bin/python3; do
   if "$candidate" "$renderer" --check > /dev/null 2>&1; then python=$candidate; break; fi
 done
-test -n "$python" || { echo "no Python with matplotlib and numpy (apt-get install python3-matplotlib)"; exit 1; }
+test -n "$python" \
+  || { echo "no Python with matplotlib and numpy (apt-get install python3-matplotlib)"; exit 1; }
 
 "$tofcomp" -q simulate "$root/tests/cli/report-time-drift.yaml" -o "$work/drift.csv"
 "$tofcomp" -q diagnose "$work/drift.csv" --datasheet "$datasheet" --report "$work/report" --json \

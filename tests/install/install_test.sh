@@ -27,8 +27,8 @@ grep -q '^ExecStart=/usr/bin/tofcompd --config /etc/tofcompd/tofcompd.yaml' \
 # writes a report with its figures.
 root=$(cd "$(dirname "$0")/../.." && pwd)
 "$stage/usr/bin/tofcomp" -q simulate "$root/tests/install/short-scenario.yaml" -o "$stage/short.csv"
-"$stage/usr/bin/tofcomp" -q diagnose "$stage/short.csv" --datasheet "$stage/etc/tofcompd/lms200-datasheet.yaml" \
-  --report "$stage/report" > /dev/null
+"$stage/usr/bin/tofcomp" -q diagnose "$stage/short.csv" \
+  --datasheet "$stage/etc/tofcompd/lms200-datasheet.yaml" --report "$stage/report" > /dev/null
 grep -q 'src="figures/fig19_absolute_error_moments.png"' "$stage/report/index.html"
 test -s "$stage/report/figures/fig03_histogram.png"
 echo "install layout holds"
