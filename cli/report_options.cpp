@@ -19,10 +19,12 @@ std::shared_ptr<ReportOptions> add_report_options(CLI::App& cmd) {
   cmd.add_option("--report", options->directory,
                  "Also write an HTML report into this directory: the paper's figures on these "
                  "data (held-out half), the findings, the extension and the errors before and "
-                 "after (DIR/index.html; needs python3-matplotlib)");
+                 "after (DIR/index.html; needs python3-matplotlib)")
+      ->type_name("DIR");
   cmd.add_option("--report-windows", options->windows,
                  "Window lengths of the report's Fig. 16-17 and error table, comma separated")
       ->capture_default_str()
+      ->type_name("LIST")
       ->check(CLI::Validator(
           [](std::string& list) {
             try {
@@ -32,7 +34,7 @@ std::shared_ptr<ReportOptions> add_report_options(CLI::App& cmd) {
               return "'" + list + "' is not a comma-separated list of window lengths >= 1";
             }
           },
-          "LIST"));
+          ""));
   return options;
 }
 

@@ -366,7 +366,8 @@ def em_testing_cost(data, directory):
                   f"this machine) of computing Hθ̂ and {steps} EM test steps on the first K "
                   f"held-out ranges, for each trained Fourier model. The paper found quadratic "
                   f"growth; here each step costs O(K), so the fitted exponent of time ∝ Kᵃ is near "
-                  f"1 ({'; '.join(exponents)}), and the order matters little.{left_out}")
+                  f"1 ({'; '.join(exponents)})"
+                  f"{', and the order matters little' if len(exponents) > 1 else ''}.{left_out}")
 
 
 def _window_error(table, column):
@@ -390,11 +391,11 @@ def estimates_by_window(data, directory):
     _legend_right(ax)
     stride = data.context.get("stride", 1)
     which = "every window" if stride == 1 else f"windows {stride} ranges apart"
+    steepening = "; longer windows steepen it at the true distance" if len(lengths) > 1 else ""
     return Figure("cumulative distributions of d̂ for different test sample sizes",
                   _save(fig, directory, "fig16_estimates_by_window.png"),
                   f"The error of d̂ on {which} of {', '.join(str(w) for w in lengths)} consecutive "
-                  f"held-out ranges; longer windows steepen the distribution at the true distance. "
-                  f"Junction {_temperature_span(data.samples)}.")
+                  f"held-out ranges{steepening}. Junction {_temperature_span(data.samples)}.")
 
 
 def errors_over_time(data, directory):
@@ -416,12 +417,13 @@ def errors_over_time(data, directory):
     top.set_title(f"Errors of the three estimators, windows of {w} ranges")
     _legend_right(top)
     bottom.plot(hours, data.samples["junction_c"][start], color="k")
-    bottom.set_ylabel(r"$\hat{t}^j$ at the window's start (°C)")
+    bottom.set_ylabel(r"$\hat{t}^j$ (°C)")
     bottom.set_xlabel("time of the window's first range since the start of the record (h)")
     return Figure("realizations of the errors of d̂, ȳ and the mean of y − Hθ̂",
                   _save(fig, directory, "fig17_errors.png"),
                   f"The error of each estimator on windows of {w} held-out ranges (the paper: "
-                  f"1000) along the record, with the junction temperature below. Junction "
+                  f"1000) along the record, with the junction temperature t̂ʲ at each window's "
+                  f"first range below. Junction "
                   f"{_temperature_span(data.samples)}.")
 
 
