@@ -6,6 +6,7 @@ and returns a Figure (its paper number, file and caption), or None when the data
 """
 
 import os
+import re
 from dataclasses import dataclass
 
 import matplotlib
@@ -487,7 +488,8 @@ FIGURES = [
 
 
 def draw_figures(data, directory, progress):
-    """Draws every figure the data allow; returns (figures, paper numbers left out)."""
+    """Draws every figure the data allow; returns (figures, paper numbers left out). A figure
+    of an earlier report in the same directory that these data do not allow is removed."""
     os.makedirs(os.path.join(directory, "figures"), exist_ok=True)
     figures, skipped = [], []
     for i, (number, draw) in enumerate(FIGURES):
@@ -498,4 +500,8 @@ def draw_figures(data, directory, progress):
         else:
             figure.number = number
             figures.append(figure)
+    drawn = {os.path.basename(f.file) for f in figures}
+    for name in os.listdir(os.path.join(directory, "figures")):
+        if re.fullmatch(r"fig\d\d_\w+\.png", name) and name not in drawn:
+            os.remove(os.path.join(directory, "figures", name))
     return figures, skipped
