@@ -1,5 +1,7 @@
 #include "cli/diagnosis_report.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <system_error>
@@ -15,6 +17,9 @@
 
 namespace tofcomp::cli {
 namespace {
+
+// Fewer held-out ranges than this make no window statistics worth a figure.
+constexpr Eigen::Index kMinimumHeldOutRanges = 100;
 
 // DIR and DIR/data, made if missing; throws naming DIR when that is impossible.
 std::filesystem::path make_report_directory(const std::string& directory) {
@@ -52,6 +57,11 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
   const MeasuredData train = measured.slice(-1e300, split);
   const MeasuredData test = measured.slice(split, 1e300);
   test.require_true_ranges();
+  if (test.range_mm.size() < kMinimumHeldOutRanges) {
+    throw core::InvalidInput(
+        fmt::format("{}: the held-out half (after t = {:.0f} s) has {} ranges; the report needs {}",
+                    measured.source, split, test.range_mm.size(), kMinimumHeldOutRanges));
+  }
   progress.update(0.02, "training on the first half");
   const Training t = train_calibration(train, settings, &test);
   const Compensation compensation = compensate(test, t.calibration);
