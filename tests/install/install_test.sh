@@ -15,7 +15,11 @@ for f in usr/bin/tofcompd usr/bin/tofcomp \
          usr/share/doc/tofcomp/README.md usr/share/doc/tofcomp/protocol.md \
          usr/share/doc/tofcomp/configuration.md \
          usr/share/tofcomp/report/diagnosis_report.py usr/share/tofcomp/report/report_data.py \
-         usr/share/tofcomp/report/report_figures.py usr/share/tofcomp/report/report_html.py; do
+         usr/share/tofcomp/report/report_figures.py usr/share/tofcomp/report/report_html.py \
+         usr/share/tofcomp/report/report_figures_em.py \
+         usr/share/tofcomp/report/report_figures_ranges.py \
+         usr/share/tofcomp/report/report_figures_windows.py \
+         usr/share/tofcomp/report/report_style.py; do
   [ -e "$stage/$f" ] || { echo "not installed: /$f"; cat "$stage.log"; exit 1; }
 done
 rm -f "$stage.log"
