@@ -177,7 +177,7 @@ def extension_section(diagnosis):
             + "</table>")
     gain = extension.get("held_out_log_likelihood_gain")
     if gain is not None:
-        parts.append(f"<p>Held-out log-likelihood gain: {_e(statistic(gain))}.</p>")
+        parts.append(f"<p>Held-out log-likelihood gain: {_e(_number(gain, '.1f'))}.</p>")
     errors = extension.get("errors") or []
     if errors:
         parts.append("<p>The error of d̂ on the held-out half, the paper's model (before) "

@@ -124,7 +124,7 @@ for case in new-shape none; do
   "$python" "$renderer" --quiet "$work/$case"
   python3 "$work/check_report.py" "$work/$case" "$work/$case/data/diagnosis.json" "$all_figures"
 done
-grep -q "Held-out log-likelihood gain: 1234" "$work/new-shape/index.html"
+grep -q "Held-out log-likelihood gain: 1234.5" "$work/new-shape/index.html"
 grep -q "None kept: nothing is significant" "$work/none/index.html"
 
 # A report directory that cannot be made: exit 1, the directory named.
