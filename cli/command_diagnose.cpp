@@ -7,6 +7,7 @@
 #include "cli/extension_format.hpp"
 #include "cli/model_extension.hpp"
 #include "cli/progress.hpp"
+#include "cli/report_options.hpp"
 #include "cli/shared_options.hpp"
 
 namespace tofcomp::cli {
@@ -31,8 +32,10 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       ->check(CLI::PositiveNumber);
   cmd->add_option("--calibration-output", *calibration_out,
                   "Write the calibration with the extension when it is kept (for tofcompd)");
-  cmd->callback([&common, &run, data, training, calibration, windows, stride, calibration_out] {
-    run = [&common, data, training, calibration, windows, stride, calibration_out] {
+  auto report = add_report_options(*cmd);
+  cmd->callback([&common, &run, data, training, calibration, windows, stride, calibration_out,
+                 report] {
+    run = [&common, data, training, calibration, windows, stride, calibration_out, report] {
       Progress progress("diagnose", !common.quiet);
       const MeasuredData measured = data->load();
       measured.require_true_ranges();
@@ -48,6 +51,8 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       result.text = diagnosis_text(d);
       if (d.findings.empty() || !d.findings.front().significant) {
         progress.done();
+        report->write_if_requested(measured, training->settings(), result.json, lengths,
+                                   !common.quiet);
         return result;
       }
       // Held-out data decide: train on the first half of the cycles, test on the rest.
@@ -64,6 +69,8 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
         io::write_calibration_file(*calibration_out, e.calibration);
         result.text += fmt::format("extended calibration written to {}\n", *calibration_out);
       }
+      report->write_if_requested(measured, training->settings(), result.json, lengths,
+                                 !common.quiet);
       return result;
     };
   });

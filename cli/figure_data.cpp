@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/em_test.hpp"
@@ -16,9 +17,11 @@ std::string samples_csv(const MeasuredData& test, const io::Calibration& calibra
   // Mode posteriors at the EM estimate of the whole test record (Eq. 22).
   const core::EmTestResult fit =
       core::test_em(test.range_mm, compensation.bias_mm, calibration.model.noise);
+  const bool has_truth = std::all_of(test.has_true_range.begin(), test.has_true_range.end(),
+                                     [](bool known) { return known; });
   std::string out = "time_s,range_mm,junction_c,bias_mm";
   for (int i = 0; i < modes; ++i) out += fmt::format(",posterior_mode{}", i + 1);
-  out += ",compensated_mm\n";
+  out += has_truth ? ",compensated_mm,true_range_mm\n" : ",compensated_mm\n";
   for (Eigen::Index k = 0; k < test.range_mm.size(); ++k) {
     Eigen::Index best = 0;
     fit.responsibilities.row(k).maxCoeff(&best);
@@ -26,7 +29,8 @@ std::string samples_csv(const MeasuredData& test, const io::Calibration& calibra
                        compensation.junction.junction_c[k], compensation.bias_mm[k]);
     for (int i = 0; i < modes; ++i) out += fmt::format(",{}", fit.responsibilities(k, i));
     out += fmt::format(
-        ",{}\n", test.range_mm[k] - compensation.bias_mm[k] - calibration.model.noise.mean[best]);
+        ",{}", test.range_mm[k] - compensation.bias_mm[k] - calibration.model.noise.mean[best]);
+    out += has_truth ? fmt::format(",{}\n", test.true_range_mm[k]) : "\n";
   }
   return out;
 }

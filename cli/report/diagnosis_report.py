@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""The renderer of `tofcomp diagnose --report DIR` (cli/report_renderer.hpp runs it).
+
+    diagnosis_report.py [--quiet] DIR   draws DIR/figures/*.png from DIR/data/ and writes
+                                        DIR/index.html (progress on stderr unless --quiet)
+    diagnosis_report.py --check   exits 0 when numpy and matplotlib import, 3 (naming what is
+                                  missing) otherwise
+
+Figures are drawn by matplotlib with the Agg backend (Debian: python3-matplotlib,
+python3-numpy). Exit status: 0 done, 1 bad input (the message names the file), 2 bad command
+line, 3 a Python module missing.
+"""
+
+import importlib
+import os
+import sys
+
+sys.dont_write_bytecode = True  # nothing written beside the installed scripts
+
+MISSING_MODULE_EXIT = 3
+REQUIRED_MODULES = {"numpy": "python3-numpy", "matplotlib": "python3-matplotlib"}
+
+
+def missing_modules():
+    missing = []
+    for module, package in REQUIRED_MODULES.items():
+        try:
+            importlib.import_module(module)
+        except ImportError:
+            missing.append(f"{module} (Debian package {package})")
+    return missing
+
+
+def render(directory, quiet):
+    from report_data import ReportInputError, load_report_data
+    from report_figures import draw_figures
+    from report_html import write_page
+
+    try:
+        data = load_report_data(directory)
+    except ReportInputError as e:
+        print(f"diagnosis_report: error: {e}", file=sys.stderr)
+        return 1
+    def progress(message):
+        if not quiet:
+            print(f"report: {message}", file=sys.stderr, flush=True)
+
+    figures, skipped = draw_figures(data, directory, lambda m: progress(f"drawing {m}"))
+    page = os.path.join(directory, "index.html")
+    write_page(page, data, figures, skipped)
+    progress(f"wrote {page} with {len(figures)} figures")
+    return 0
+
+
+def main(argv):
+    quiet = "--quiet" in argv[1:]
+    arguments = [a for a in argv[1:] if a != "--quiet"]
+    if len(arguments) != 1 or arguments[0] in ("-h", "--help"):
+        print(__doc__, file=sys.stderr)
+        return 2
+    check = arguments[0] == "--check"
+    missing = missing_modules()
+    if missing:
+        message = f"{sys.executable} lacks the Python module(s) {', '.join(missing)}"
+        if check:
+            print(message)
+        else:
+            print(f"diagnosis_report: error: {message}; install them with "
+                  f"apt-get install python3-matplotlib python3-numpy", file=sys.stderr)
+        return MISSING_MODULE_EXIT
+    return 0 if check else render(arguments[0], quiet)
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

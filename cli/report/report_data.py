@@ -1,0 +1,120 @@
+"""Reading what `tofcomp diagnose --report DIR` wrote into DIR/data/ (cli/diagnosis_report.hpp).
+
+Every CSV is read into a table: a dict of column name -> numpy array (float where every cell is a
+number or empty, which becomes NaN; text otherwise). A file that is missing or malformed raises
+ReportInputError naming the file, the line and the column.
+"""
+
+import csv
+import json
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+class ReportInputError(Exception):
+    """Input of the report that is missing or cannot be read; the message names the file."""
+
+
+def _column(cells):
+    try:
+        return np.array([float(c) if c != "" else np.nan for c in cells], dtype=float)
+    except ValueError:
+        return np.array(cells, dtype=object)
+
+
+def read_table(path):
+    """The CSV at path as {column: array}; raises ReportInputError naming the file and line."""
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(f))
+    except OSError as e:
+        raise ReportInputError(f"{path}: cannot read it: {e.strerror}") from e
+    if not rows:
+        raise ReportInputError(f"{path}: empty, a header row was expected")
+    header, body = rows[0], rows[1:]
+    for line, row in enumerate(body, start=2):
+        if len(row) != len(header):
+            raise ReportInputError(
+                f"{path}:{line}: {len(row)} cells, the header has {len(header)}")
+    return {name: _column([row[i] for row in body]) for i, name in enumerate(header)}
+
+
+def require_columns(table, path, names):
+    missing = [n for n in names if n not in table]
+    if missing:
+        raise ReportInputError(f"{path}: missing column(s) {', '.join(missing)}")
+
+
+def read_json(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except OSError as e:
+        raise ReportInputError(f"{path}: cannot read it: {e.strerror}") from e
+    except json.JSONDecodeError as e:
+        raise ReportInputError(f"{path}:{e.lineno}:{e.colno}: not JSON: {e.msg}") from e
+
+
+@dataclass
+class ReportData:
+    """Everything DIR/data/ holds; optional parts are None when the data did not allow them."""
+    directory: str
+    context: dict
+    diagnosis: dict
+    samples: dict
+    windows: dict = field(default_factory=dict)  # window length -> table
+    thermal_fit: dict = None
+    em_convergence: dict = None
+    glr: dict = None
+    em_test_trace: dict = None
+    em_test_cost: dict = None
+    moments: dict = None
+
+
+def _optional_table(data_dir, name):
+    path = os.path.join(data_dir, name)
+    return read_table(path) if os.path.exists(path) else None
+
+
+def load_report_data(directory):
+    data_dir = os.path.join(directory, "data")
+    if not os.path.isdir(data_dir):
+        raise ReportInputError(f"{data_dir}: no such directory (run tofcomp diagnose --report)")
+    context = read_json(os.path.join(data_dir, "context.json"))
+    diagnosis = read_json(os.path.join(data_dir, "diagnosis.json"))
+    samples_path = os.path.join(data_dir, "samples.csv")
+    samples = read_table(samples_path)
+    require_columns(samples, samples_path,
+                    ["time_s", "range_mm", "junction_c", "bias_mm", "compensated_mm",
+                     "true_range_mm"])
+    windows = {}
+    for length in sorted(set(context.get("windows", [])) | set(context.get("moment_windows", []))):
+        table = _optional_table(data_dir, f"windows_{length}.csv")
+        if table is not None:
+            windows[int(length)] = table
+    return ReportData(
+        directory=directory,
+        context=context,
+        diagnosis=diagnosis,
+        samples=samples,
+        windows=windows,
+        thermal_fit=_optional_table(data_dir, "thermal_fit.csv"),
+        em_convergence=_optional_table(data_dir, "em_convergence.csv"),
+        glr=_optional_table(data_dir, "glr.csv"),
+        em_test_trace=_optional_table(data_dir, "em_test_trace.csv"),
+        em_test_cost=_optional_table(data_dir, "em_test_cost.csv"),
+        moments=_optional_table(data_dir, "moments.csv"),
+    )
+
+
+def mode_count(samples):
+    return sum(1 for name in samples if name.startswith("posterior_mode"))
+
+
+def most_probable_mode(samples):
+    """Index (0-based) of each range's most probable mode (the Δ̂ of Eq. 22)."""
+    posteriors = np.column_stack(
+        [samples[f"posterior_mode{i + 1}"] for i in range(mode_count(samples))])
+    return np.argmax(posteriors, axis=1)

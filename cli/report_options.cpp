@@ -1,0 +1,27 @@
+#include "cli/report_options.hpp"
+
+#include "cli/diagnosis_report.hpp"
+
+namespace tofcomp::cli {
+
+void ReportOptions::write_if_requested(const MeasuredData& measured, const TrainSettings& settings,
+                                       const nlohmann::json& diagnosis,
+                                       const std::vector<Eigen::Index>& windows,
+                                       bool show_progress) const {
+  if (directory.empty()) return;
+  ReportSettings report;
+  report.windows = windows;
+  write_diagnosis_report(directory, measured, settings, diagnosis, report, show_progress);
+}
+
+std::shared_ptr<ReportOptions> add_report_options(CLI::App& cmd) {
+  auto options = std::make_shared<ReportOptions>();
+  cmd.add_option("--report", options->directory,
+                 "Also write an HTML report into this directory: the paper's figures on these "
+                 "data (held-out half), the findings, the extension and the errors before and "
+                 "after (DIR/index.html; needs python3-matplotlib)")
+      ->type_name("DIR");
+  return options;
+}
+
+}  // namespace tofcomp::cli
