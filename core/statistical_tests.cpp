@@ -159,10 +159,29 @@ TestResult tail_excess_test(double observed, double n, double tail_probability) 
   if (!(n > 0.0) || !(tail_probability > 0.0 && tail_probability < 1.0) || observed < 0.0) {
     throw InvalidInput("tail excess test needs n > 0, 0 < p < 1, observed >= 0");
   }
-  const double expected = n * tail_probability;
-  const double sd = std::sqrt(n * tail_probability * (1.0 - tail_probability));
-  const double z = (observed - 0.5 - expected) / sd;
-  return {observed / expected, 0.5 * std::erfc(z / std::sqrt(2.0)), 0.0, z};
+  const double lambda = n * tail_probability;
+  const double k = std::floor(observed);
+  // log P(X ≥ k), X ~ Poisson(λ): P(X ≤ k − 1) = Q(k, λ) where that is not tiny; in the far
+  // tail (k > λ) the series e^{−λ} λ^k / k! Σ_m λ^m k! / (k + m)!, in logs, so that a count far
+  // beyond its expectation keeps a finite z instead of a p-value of 0.
+  double log_p = 0.0;
+  if (k > 0.0) {
+    if (k > lambda) {
+      double term = 1.0, sum = 1.0;
+      for (double m = 1.0; m < 10000.0 && term > 1e-17 * sum; m += 1.0) {
+        term *= lambda / (k + m);
+        sum += term;
+      }
+      log_p = -lambda + k * std::log(lambda) - std::lgamma(k + 1.0) + std::log(sum);
+    } else {
+      log_p = std::log(std::max(1.0 - regularized_upper_gamma(k, lambda), 1e-300));
+    }
+  }
+  TestResult r;
+  r.statistic = observed / lambda;
+  r.p_value = std::exp(log_p);
+  r.z = log_p < std::log(0.5) ? normal_deviate_of_log_p(log_p) : 0.0;
+  return r;
 }
 
 double normal_deviate_of_log_p(double log_p) {

@@ -57,8 +57,9 @@ double normal_deviate_of_log_p(double log_p);
 TestResult chi_square_independence(const Eigen::Ref<const Eigen::MatrixXd>& counts);
 
 // Excess of extreme values: of n values, `observed` beyond a bound that each exceeds with
-// probability `tail_probability` under the model; one-sided binomial test via the normal
-// approximation with continuity correction; statistic = observed / expected.
+// probability `tail_probability` under the model; one-sided test with the Poisson law of the
+// count (n large, the probability small), exact and in logs, so z stays finite far in the
+// tail; statistic = observed / expected.
 TestResult tail_excess_test(double observed, double n, double tail_probability);
 
 }  // namespace tofcomp::core

@@ -81,6 +81,15 @@ TEST(StatisticalTests, CorrelationAndIndependence) {
   EXPECT_DOUBLE_EQ(tail.statistic, 3.0);
   EXPECT_LT(tail.p_value, 1e-6);
   EXPECT_GT(tail_excess_test(10, 1000, 0.01).p_value, 0.3);
+  // Poisson tails by hand: P(X ≥ 3 | λ = 0.5) = 1 − e^−0.5 (1 + 0.5 + 0.125), through the far-tail
+  // series; P(X ≥ 2 | λ = 3) = 1 − 4 e^−3, through Q(k, λ).
+  EXPECT_NEAR(tail_excess_test(3, 50, 0.01).p_value, 1.0 - std::exp(-0.5) * 1.625, 1e-12);
+  EXPECT_NEAR(tail_excess_test(2, 300, 0.01).p_value, 1.0 - 4.0 * std::exp(-3.0), 1e-12);
+  // Far beyond its expectation the count keeps a finite, ordered z.
+  const TestResult far = tail_excess_test(2000, 20000, 1e-15);
+  const TestResult farther = tail_excess_test(3000, 20000, 1e-15);
+  EXPECT_TRUE(std::isfinite(far.z));
+  EXPECT_GT(farther.z, far.z);
 }
 
 // The normal deviate of a log tail probability: table values, and the asymptotic regime where
