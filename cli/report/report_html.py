@@ -68,29 +68,6 @@ def _td(text, cls=None):
     return f'<td class="{cls}">{_e(text)}</td>' if cls else f"<td>{_e(text)}</td>"
 
 
-def normalized_extension(extension):
-    """The extension in the shape the diagnosis will print; the earlier, flatter shape
-    (covariate, coefficient_mm, window, held_out_mae_*, held_out_rmse_*) is mapped onto it."""
-    if extension is None or "errors" in extension or "held_out_mae_before_mm" not in extension:
-        return extension
-    before = {"mean_absolute_error_mm": extension.get("held_out_mae_before_mm"),
-              "rmse_mm": extension.get("held_out_rmse_before_mm")}
-    after = {"mean_absolute_error_mm": extension.get("held_out_mae_after_mm"),
-             "rmse_mm": extension.get("held_out_rmse_after_mm")}
-    factor = None
-    if before["mean_absolute_error_mm"] and after["mean_absolute_error_mm"]:
-        factor = before["mean_absolute_error_mm"] / after["mean_absolute_error_mm"]
-    covariate = extension.get("covariate", "the covariate")
-    return {
-        "effect": extension.get("effect"),
-        "model": f"y = d + H(tʲ)θ + γ·c + w, c the {covariate} (one more column of H)",
-        "parameters": {f"γ (mm per unit of {covariate})": extension.get("coefficient_mm")},
-        "kept": extension.get("kept"),
-        "errors": [{"window": extension.get("window"), "before": before, "after": after,
-                    "mae_factor": factor}],
-    }
-
-
 def summary_section(diagnosis):
     named = diagnosis.get("named")
     if named is None:
@@ -100,7 +77,7 @@ def summary_section(diagnosis):
                  "explains these data.")
     else:
         lacks = f"The paper's model lacks: <b>{_e(named)}</b>."
-    extension = normalized_extension(diagnosis.get("extension"))
+    extension = diagnosis.get("extension")
     if extension is None:
         kept = "No extension was fitted, so none is kept."
     elif extension.get("kept"):
@@ -159,7 +136,7 @@ MOMENT_HEADS = "<th>ME mm</th><th>MAE mm</th><th>RMSE mm</th><th>var |e| mm²</t
 
 def extension_section(diagnosis):
     parts = ['<h2 id="extension">The extension</h2>']
-    extension = normalized_extension(diagnosis.get("extension"))
+    extension = diagnosis.get("extension")
     named = diagnosis.get("named")
     if extension is None:
         why = ("nothing is significant, so the paper's model stands" if named == "none"
