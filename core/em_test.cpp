@@ -20,31 +20,29 @@ double distance_m_step(MStep kind, const Eigen::VectorXd& corrected, const Eigen
   return (total.dot(corrected) - w.colwise().sum().dot(m.mean)) / total.sum();
 }
 
-// −d²ℓ/dd² of the mixture log-likelihood at d (Louis' identity, per sample):
-//   Σ_i r_i/σ_i² − Σ_i r_i e_i²/σ_i⁴ + (Σ_i r_i e_i/σ_i²)²,  e_i = y − Hθ − d − μ_i.
-double distance_std(const Eigen::VectorXd& corrected, double d, const Eigen::MatrixXd& r,
-                    const MixtureParameters& m) {
+}  // namespace
+
+double distance_standard_deviation(const Eigen::Ref<const Eigen::VectorXd>& corrected, double d,
+                                   const Eigen::MatrixXd& r, const Eigen::VectorXd& mean,
+                                   const Eigen::MatrixXd& precision) {
   double observed = 0.0;
   double complete = 0.0;
   for (Eigen::Index k = 0; k < corrected.size(); ++k) {
     double info = 0.0;
     double second = 0.0;
     double score = 0.0;
-    for (int i = 0; i < m.modes(); ++i) {
-      const double e = corrected[k] - d - m.mean[i];
-      const double inv_var = 1.0 / m.variance[i];
-      info += r(k, i) * inv_var;
-      second += r(k, i) * e * e * inv_var * inv_var;
-      score += r(k, i) * e * inv_var;
+    for (Eigen::Index i = 0; i < mean.size(); ++i) {
+      const double e = corrected[k] - d - mean[i];
+      const double p = precision(k, i);
+      info += r(k, i) * p;
+      second += r(k, i) * e * e * p * p;
+      score += r(k, i) * e * p;
     }
     complete += info;
     observed += info - second + score * score;
   }
-  const double information = observed > 0.0 ? observed : complete;
-  return 1.0 / std::sqrt(information);
+  return 1.0 / std::sqrt(observed > 0.0 ? observed : complete);
 }
-
-}  // namespace
 
 EmTestResult test_em(const Eigen::Ref<const Eigen::VectorXd>& y,
                      const Eigen::Ref<const Eigen::VectorXd>& bias,
@@ -85,7 +83,10 @@ EmTestResult test_em(const Eigen::Ref<const Eigen::VectorXd>& y,
     }
   }
   result.distance = d;
-  result.distance_std = distance_std(corrected, d, result.responsibilities, mixture);
+  const Eigen::MatrixXd precision =
+      Eigen::VectorXd::Ones(y.size()) * mixture.variance.cwiseInverse().transpose();
+  result.distance_std =
+      distance_standard_deviation(corrected, d, result.responsibilities, mixture.mean, precision);
   return result;
 }
 

@@ -37,6 +37,14 @@ struct EmTestResult {
   std::vector<double> distance_trace;  // d after each iteration (the paper's Fig. 14)
 };
 
+// The standard deviation of d from −d²ℓ/dd² of the mixture likelihood (Louis' identity, per
+// range): Σ_k [Σ_i r_ki P_ki − Σ_i r_ki e_ki² P_ki² + (Σ_i r_ki e_ki P_ki)²], e_ki = x_k − d − μ_i,
+// with P_ki = 1/σ²_ki each range's mode precisions; the complete-data information Σ r P when
+// the observed one is not positive. Shared by the paper's EM testing and the extended one.
+double distance_standard_deviation(const Eigen::Ref<const Eigen::VectorXd>& corrected, double d,
+                                   const Eigen::MatrixXd& responsibilities,
+                                   const Eigen::VectorXd& mean, const Eigen::MatrixXd& precision);
+
 // y and bias (H θ̂) of one length K ≥ 1. Starts from initial_distance when given (a warm start
 // from the previous window), otherwise from the paper's d = 1ᵀy / K for PaperAsPrinted and from
 // mean(y − H θ̂) − Σ π_i μ_i for Exact.

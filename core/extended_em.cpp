@@ -80,26 +80,6 @@ void update_noise(const Eigen::VectorXd& e, const Eigen::VectorXi& bin,
   }
 }
 
-// −d²ℓ/dd² by Louis' identity per range with per-range variances (see core/em_test.cpp).
-double distance_std(const Eigen::VectorXd& x, double d, const Eigen::VectorXi& bin,
-                    const ExtendedResponsibilities& r, const ExtendedMixture& m) {
-  double observed = 0.0;
-  double complete = 0.0;
-  for (Eigen::Index k = 0; k < x.size(); ++k) {
-    double info = 0.0, second = 0.0, score = 0.0;
-    for (int i = 0; i < m.modes.modes(); ++i) {
-      const double inv_var = 1.0 / m.variance(bin[k], i);
-      const double e = x[k] - d - m.modes.mean[i];
-      info += r.mode(k, i) * inv_var;
-      second += r.mode(k, i) * e * e * inv_var * inv_var;
-      score += r.mode(k, i) * e * inv_var;
-    }
-    complete += info;
-    observed += info - second + score * score;
-  }
-  return 1.0 / std::sqrt(observed > 0.0 ? observed : complete);
-}
-
 }  // namespace
 
 ExtendedEmResult train_extended_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
@@ -181,7 +161,11 @@ EmTestResult test_extended_em(const Eigen::Ref<const Eigen::VectorXd>& y,
     }
   }
   result.distance = d;
-  result.distance_std = distance_std(x, d, bin, r, model);
+  Eigen::MatrixXd precision(x.size(), model.modes.modes());
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    for (int i = 0; i < model.modes.modes(); ++i) precision(k, i) = 1.0 / model.variance(bin[k], i);
+  }
+  result.distance_std = distance_standard_deviation(x, d, r.mode, model.modes.mean, precision);
   result.responsibilities = std::move(r.mode);
   return result;
 }
