@@ -101,7 +101,10 @@ void Daemon::on_run_ended(PowerCycleSchedule::Phase phase, const std::string& wh
 nlohmann::json Daemon::calibration_run_status() const {
   const PowerCycleSchedule::Progress p = run_->progress();
   std::string phase = to_string(p.phase);
-  if (p.phase == PowerCycleSchedule::Phase::Finished) {
+  if (p.phase == PowerCycleSchedule::Phase::Cancelled &&
+      recalibration_state_.rfind("failed", 0) == 0) {
+    phase = "failed";  // cancelled by the daemon when the run's recording failed
+  } else if (p.phase == PowerCycleSchedule::Phase::Finished) {
     phase = worker_running_                                ? "training"
             : recalibration_state_.rfind("done", 0) == 0   ? "done"
             : recalibration_state_.rfind("failed", 0) == 0 ? "failed"
