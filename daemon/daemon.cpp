@@ -237,7 +237,8 @@ void Daemon::watch_signals() {
 }
 
 // Every 100 ms on the loop: the watchdog ping (so a stuck loop stops the pings), the emulated
-// scanner's power state, a finished recalibration.
+// scanner's power state (or, playing a recording, the played events no scan waits for), a
+// finished recalibration.
 void Daemon::schedule_housekeeping() {
   housekeeping_.expires_after(std::chrono::milliseconds(100));
   housekeeping_.async_wait([this](const boost::system::error_code& ec) {
