@@ -36,6 +36,7 @@ Daemon::Daemon(config::DaemonConfig config, std::filesystem::path config_file)
 
 Daemon::~Daemon() {
   if (worker_.joinable()) worker_.join();
+  run_.reset();
   if (sensor_) sensor_->stop();
   if (emulator_) emulator_->stop();
 }
@@ -58,6 +59,27 @@ void Daemon::stop_recording(const std::string& why) {
   recorder_.reset();
 }
 
+void Daemon::record(const std::function<void(Recorder&)>& write) {
+  if (recorder_) {
+    try {
+      write(*recorder_);
+    } catch (const core::Error& e) {
+      stop_recording(e.what());
+    }
+  }
+  if (run_recorder_) {
+    try {
+      write(*run_recorder_);
+    } catch (const core::Error& e) {
+      ++counters_.recording_errors;
+      run_recorder_.reset();
+      if (run_) run_->cancel();
+      on_run_ended(PowerCycleSchedule::Phase::Failed,
+                   std::string("the run's recording failed: ") + e.what());
+    }
+  }
+}
+
 // Swaps a calibration in (on the loop, between two scans: no scan is lost or mixed).
 void Daemon::use_calibration(std::shared_ptr<const io::Calibration> calibration,
                              const std::string& source) {
@@ -78,6 +100,20 @@ void Daemon::start_parts() {
   std::string device;
   if (config_.emulator.enabled) {
     emulator_ = std::make_unique<sim::lms200::Emulator>(config::emulator_settings(config_));
+    if (!config_.emulator.recording.empty()) {
+      // The recorded case readings and power changes, at their recorded times, in place of the
+      // sensor poll and the emulator's power state.
+      playback_ = std::make_unique<PlaybackFeed>(
+          PlaybackFeed::Handlers{[this](double t, double c) {
+                                   ++counters_.readings_valid;
+                                   sensor_state_ = "valid";
+                                   take_case_reading(t, c);
+                                 },
+                                 [this](double t, bool on) { on_power(t, on); }});
+      PlaybackFeed* feed = playback_.get();
+      emulator_->on_playback_event(
+          [feed](const sim::lms200::PlaybackEvent& e) { feed->event_played(e); });
+    }
     emulator_->start();
     device = emulator_->device_path();
     spdlog::info("emulated LMS 200 ({}) on {}", config_.emulator.scenario.string(), device);
@@ -88,13 +124,15 @@ void Daemon::start_parts() {
       [this](hal::lms2xx::LinkState state, const std::string& why) { on_link_state(state, why); });
 
   sim::lms200::Emulator* emulator = emulator_.get();
-  auto sensor = hal::make_temperature_sensor(config_.case_sensor.sensor, [emulator] {
-    if (!emulator) throw core::Error("the simulated case sensor needs the emulator");
-    return emulator->read_case_sensor();
-  });
-  sensor_ = std::make_unique<SensorPoller>(
-      io_, std::move(sensor), config_.case_sensor.poll_interval,
-      [this](Clock::time_point when, const hal::TemperatureReading& r) { on_reading(when, r); });
+  if (!playback_) {
+    auto sensor = hal::make_temperature_sensor(config_.case_sensor.sensor, [emulator] {
+      if (!emulator) throw core::Error("the simulated case sensor needs the emulator");
+      return emulator->read_case_sensor();
+    });
+    sensor_ = std::make_unique<SensorPoller>(
+        io_, std::move(sensor), config_.case_sensor.poll_interval,
+        [this](Clock::time_point when, const hal::TemperatureReading& r) { on_reading(when, r); });
+  }
 
   if (config_.power.sense) {
     power_sense_ = hal::make_power_sense(
@@ -140,14 +178,18 @@ int Daemon::run() {
   if (const auto interval = notifier_.watchdog_interval()) {
     watchdog_period_ = service::SystemdNotifier::ping_period(*interval);
   }
-  sensor_->start();
+  if (sensor_) sensor_->start();
   driver_->start();
   schedule_housekeeping();
   set_status("waiting for the first scan");
   if (calibration_id_ == 0 &&
-      config_.recalibration.trigger == config::RecalibrationTrigger::AtStartIfMissing &&
-      config_.recalibration.source == config::RecalibrationSource::Recording) {
-    start_recalibration(config_.recalibration.data);
+      config_.recalibration.trigger == config::RecalibrationTrigger::AtStartIfMissing) {
+    if (config_.recalibration.source == config::RecalibrationSource::Recording) {
+      start_recalibration(config_.recalibration.data, 0);
+    } else if (config_.recalibration.source == config::RecalibrationSource::PowerCycleRun) {
+      const std::string refused = start_power_cycle_run();
+      if (!refused.empty()) spdlog::error("recalibration at start: {}", refused);
+    }
   }
   // A handler that throws is a bug: it is logged and the loop goes on, so one bad event never
   // stops the service.
@@ -160,8 +202,13 @@ int Daemon::run() {
     }
   }
   notifier_.stopping();
+  // A calibration run cut short leaves the scanner powered.
+  if (run_ && run_->running()) {
+    spdlog::info("power-cycle run cancelled: switching the scanner back on");
+    run_->cancel();
+  }
   driver_->stop();
-  sensor_->stop();
+  if (sensor_) sensor_->stop();
   if (server_) server_->stop();
   if (emulator_) emulator_->stop();
   spdlog::info("stopped after {} scans", counters_.scans_published);
@@ -190,7 +237,8 @@ void Daemon::watch_signals() {
 }
 
 // Every 100 ms on the loop: the watchdog ping (so a stuck loop stops the pings), the emulated
-// scanner's power state, a finished recalibration.
+// scanner's power state (or, playing a recording, the played events no scan waits for), a
+// finished recalibration.
 void Daemon::schedule_housekeeping() {
   housekeeping_.expires_after(std::chrono::milliseconds(100));
   housekeeping_.async_wait([this](const boost::system::error_code& ec) {
@@ -200,7 +248,9 @@ void Daemon::schedule_housekeeping() {
       notifier_.watchdog();
       last_watchdog_ = now;
     }
-    if (emulator_ && !power_sense_) {
+    if (playback_) {
+      playback_->deliver(config_.link.scan_timeout);
+    } else if (emulator_ && !power_sense_) {
       const bool on = emulator_->power_on();
       if (power_on_ != on) on_power(now_s(now), on);
     }
@@ -216,13 +266,7 @@ void Daemon::on_power(double time_s, bool on) {
   const double t = std::max(time_s, last_event_time_s_);
   last_event_time_s_ = t;
   pipeline_.on_power(t, on);
-  if (recorder_) {
-    try {
-      recorder_->power(t, on);
-    } catch (const core::Error& e) {
-      stop_recording(e.what());
-    }
-  }
+  record([&](Recorder& r) { r.power(t, on); });
   spdlog::info("scanner power {}", on ? "on" : "off");
 }
 
@@ -235,20 +279,24 @@ void Daemon::on_reading(Clock::time_point when, const hal::TemperatureReading& r
   }
   ++counters_.readings_valid;
   sensor_state_ = "valid";
-  const double t = event_time(when);
-  pipeline_.on_case_reading(t, r.celsius);
-  if (recorder_) {
-    try {
-      recorder_->case_reading(t, r.celsius);
-    } catch (const core::Error& e) {
-      stop_recording(e.what());
-    }
-  }
+  take_case_reading(event_time(when), r.celsius);
+}
+
+void Daemon::take_case_reading(double time_s, double case_c) {
+  const double t = std::max(time_s, last_event_time_s_);
+  last_event_time_s_ = t;
+  last_case_reading_ = {t, case_c};
+  pipeline_.on_case_reading(t, case_c);
+  record([&](Recorder& r) { r.case_reading(t, case_c); });
 }
 
 void Daemon::on_link_state(hal::lms2xx::LinkState state, const std::string& why) {
   link_state_ = hal::lms2xx::to_string(state) + ": " + why;
-  if (state == hal::lms2xx::LinkState::Backoff) {
+  if (switched_off_) {
+    // The daemon switched the scanner off: a silent link is expected, not a fault.
+    link_state_ += " (the scanner is switched off)";
+    spdlog::info("link: {}", link_state_);
+  } else if (state == hal::lms2xx::LinkState::Backoff) {
     spdlog::warn("link: {}", link_state_);
   } else {
     spdlog::info("link: {}", link_state_);
@@ -257,15 +305,23 @@ void Daemon::on_link_state(hal::lms2xx::LinkState state, const std::string& why)
 
 void Daemon::on_scan(const hal::lms2xx::HostScan& host) {
   ++counters_.scans_in;
+  realtime::RawScan raw = to_raw_scan(host, config_.link.variant, 0.0);
+  // Playing a recording, the scan's recorded time (the readings recorded before it are handed
+  // over first); else when it arrived.
+  const std::optional<double> recorded = playback_ ? playback_->scan_arrived(raw) : std::nullopt;
+  if (playback_ && !recorded) spdlog::warn("scan {} is not one the playback sent", host.sequence);
   // Scans that arrived in one read share a timestamp; each gets a time of its own, so that a
   // recording keeps them apart (realtime/recording_replay.hpp).
-  double t = event_time(host.received);
+  double t = recorded ? std::max(*recorded, last_event_time_s_) : event_time(host.received);
   if (t <= last_scan_time_s_) t = std::nextafter(last_scan_time_s_, INFINITY);
   last_scan_time_s_ = t;
   last_event_time_s_ = t;
-  // A scan proves the scanner is powered, whatever the last sense said.
-  if (power_on_ == false) on_power(t, true);
-  realtime::RawScan raw = to_raw_scan(host, config_.link.variant, t);
+  raw.time_s = t;
+  // A scan proves the scanner is powered, whatever the last sense said; but one that reaches
+  // the loop after the daemon switched the power off was measured before: it is published, and
+  // left out of the recordings (a data set holds no range while the power is 0).
+  const bool measured_before_switch_off = power_on_ == false && switched_off_;
+  if (power_on_ == false && !switched_off_) on_power(t, true);
   ipc::CompensatedScan out;
   try {
     out = pipeline_.on_scan(raw);
@@ -274,13 +330,7 @@ void Daemon::on_scan(const hal::lms2xx::HostScan& host) {
     spdlog::error("scan {} not published: {}", host.sequence, e.what());
     return;
   }
-  if (recorder_) {
-    try {
-      recorder_->scan(raw);
-    } catch (const core::Error& e) {
-      stop_recording(e.what());
-    }
-  }
+  if (!measured_before_switch_off) record([&](Recorder& r) { r.scan(raw); });
   ring_->publish(out);
   server_->publish(out);
   latest_ = std::move(out);

@@ -3,11 +3,15 @@
 // compensated scan to the shared-memory ring and the Unix socket. Around it: the emulated
 // LMS 200 of the embedded default, the recorder, the power-sense line, systemd's readiness and
 // watchdog, SIGHUP reloads, and recalibration, which trains in a worker thread and swaps the
-// new calibration in on the loop between two scans.
+// new calibration in on the loop between two scans: on a recorded data set, or on the recording
+// of a calibration run in which the daemon cycles the scanner's power (§8.1,
+// daemon_calibration_run.cpp). Playing a recording through its emulator, it takes the recorded
+// case readings and times from the playback (daemon/playback_feed.hpp).
 #pragma once
 
 #include <boost/asio.hpp>
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -15,6 +19,8 @@
 #include <thread>
 
 #include "daemon/config/daemon_config.hpp"
+#include "daemon/playback_feed.hpp"
+#include "daemon/power_cycle_schedule.hpp"
 #include "daemon/recorder.hpp"
 #include "daemon/sensor_poller.hpp"
 #include "daemon/service/systemd_notifier.hpp"
@@ -69,7 +75,11 @@ class Daemon : public socket::SocketRequestHandler {
   void start_parts();
   void on_scan(const hal::lms2xx::HostScan& scan);
   void on_reading(std::chrono::steady_clock::time_point when, const hal::TemperatureReading& r);
+  void take_case_reading(double time_s, double case_c);
   void on_power(double time_s, bool on);
+  // Hands a row to each recorder running (the configured recording, a calibration run's); one
+  // that fails is stopped, and a calibration run with it.
+  void record(const std::function<void(Recorder&)>& write);
   void on_link_state(hal::lms2xx::LinkState state, const std::string& why);
   void watch_signals();
   void schedule_housekeeping();
@@ -90,7 +100,8 @@ class Daemon : public socket::SocketRequestHandler {
 
   std::unique_ptr<sim::lms200::Emulator> emulator_;
   std::unique_ptr<hal::lms2xx::Lms2xxDriver> driver_;
-  std::unique_ptr<SensorPoller> sensor_;
+  std::unique_ptr<SensorPoller> sensor_;    // null while playing a recording
+  std::unique_ptr<PlaybackFeed> playback_;  // emulator.recording: readings and times
   std::unique_ptr<hal::PowerSense> power_sense_;
   std::unique_ptr<ipc::ring::RingWriter> ring_;
   std::unique_ptr<socket::SocketServer> server_;
@@ -99,6 +110,7 @@ class Daemon : public socket::SocketRequestHandler {
 
   std::optional<ipc::CompensatedScan> latest_;
   std::optional<bool> power_on_;
+  std::optional<std::pair<double, double>> last_case_reading_;  // time_s, °C
   double last_scan_time_s_ = -1.0;
   double last_event_time_s_ = 0.0;
   std::string link_state_ = "starting";
@@ -117,7 +129,19 @@ class Daemon : public socket::SocketRequestHandler {
     std::shared_ptr<const io::Calibration> calibration;
     std::filesystem::path file;
   };
-  void start_recalibration(std::filesystem::path data);
+  void start_recalibration(std::filesystem::path data, int beam);
+
+  // The calibration run (§8.1), in daemon_calibration_run.cpp.
+  hal::PowerSwitch& power_switch();
+  std::string start_power_cycle_run();  // empty, or why it cannot start
+  void on_run_switched(bool on);
+  void on_run_ended(PowerCycleSchedule::Phase phase, const std::string& why);
+  nlohmann::json calibration_run_status() const;
+  std::unique_ptr<hal::PowerSwitch> power_switch_;  // made at the first run
+  std::unique_ptr<Recorder> run_recorder_;
+  std::unique_ptr<PowerCycleSchedule> run_;
+  config::PowerCycleRunConfig run_config_;  // the running one's (a reload may change the config)
+  bool switched_off_ = false;               // the daemon switched the scanner off
   std::thread worker_;
   bool worker_running_ = false;
   std::mutex outcome_mutex_;

@@ -34,10 +34,14 @@ nlohmann::json Daemon::status() {
   s["link"] = link_state_;
   s["device"] = emulator_ ? "emulated LMS 200 (" + config_.emulator.scenario.string() + ")"
                           : config_.link.device.string();
-  s["case_sensor"] = {{"backend", sensor_->describe()}, {"state", sensor_state_}};
+  s["case_sensor"] = {
+      {"backend", sensor_ ? sensor_->describe()
+                          : "recorded case readings (" + config_.emulator.recording.string() + ")"},
+      {"state", sensor_state_}};
   s["power"] = power_on_ ? nlohmann::json(*power_on_ ? "on" : "off") : nlohmann::json("unknown");
   s["calibration"] = {{"id", calibration_id_}, {"source", calibration_source_}};
   s["recalibration"] = recalibration_state_;
+  if (run_) s["calibration_run"] = calibration_run_status();
   s["last_reload"] = last_reload_;
   s["recording"] = recorder_ ? recorder_->current_file().string() : "off";
   if (latest_) {
@@ -151,31 +155,43 @@ socket::RecalibrationResult Daemon::recalibrate(const nlohmann::json& args) {
     if (data.is_relative() && !config_file_.empty()) data = config_file_.parent_path() / data;
   }
   socket::RecalibrationResult r;
-  if (worker_running_) {
+  if (worker_running_ || (run_ && run_->running())) {
     r.message = "a recalibration is already running: " + recalibration_state_;
     return r;
   }
   switch (config_.recalibration.source) {
     case config::RecalibrationSource::None:
       r.message = "recalibration.source is none in " + config_.source +
-                  ": set it to recording (and recalibration.recording.data) to recalibrate";
+                  ": set it to recording (and recalibration.recording.data) or power_cycle_run "
+                  "to recalibrate";
       return r;
     case config::RecalibrationSource::Recording:
       break;
+    case config::RecalibrationSource::PowerCycleRun:
+      if (!args.empty()) {
+        r.message =
+            "args.recording applies to recalibration.source recording; the source is "
+            "power_cycle_run, which records its own";
+        return r;
+      }
+      r.message = start_power_cycle_run();
+      r.accepted = r.message.empty();
+      if (r.accepted) r.message = recalibration_state_;
+      return r;
   }
   if (data.empty()) {
     r.message = "no recording to train on: set recalibration.recording.data or pass args.recording";
     return r;
   }
-  start_recalibration(data);
+  start_recalibration(data, 0);
   r.accepted = true;
   r.message = recalibration_state_;
   return r;
 }
 
-// Trains on `data` in the worker thread (§3 thermal identification, §5 EM), writes the
-// calibration atomically, and leaves the outcome for finish_recalibration() on the loop.
-void Daemon::start_recalibration(std::filesystem::path data) {
+// Trains on `beam` of `data` in the worker thread (§3 thermal identification, §5 EM), writes
+// the calibration atomically, and leaves the outcome for finish_recalibration() on the loop.
+void Daemon::start_recalibration(std::filesystem::path data, int beam) {
   const std::filesystem::path output = config_.recalibration.output.empty()
                                            ? config_.calibration.file
                                            : config_.recalibration.output;
@@ -183,13 +199,13 @@ void Daemon::start_recalibration(std::filesystem::path data) {
   recalibration_state_ = "training on " + data.string() + ", writing " + output.string();
   spdlog::info("recalibration: {}", recalibration_state_);
   worker_running_ = true;
-  worker_ = std::thread([this, data, output, datasheet] {
+  worker_ = std::thread([this, data, beam, output, datasheet] {
     RecalibrationOutcome outcome;
     outcome.file = output;
     try {
       if (output.empty()) throw core::Error("no calibration file to write (calibration.file)");
       std::vector<std::string> warnings;
-      const cli::MeasuredData measured = cli::read_measured_data(data.string(), 0, warnings);
+      const cli::MeasuredData measured = cli::read_measured_data(data.string(), beam, warnings);
       cli::TrainSettings settings;
       settings.thermal.datasheet = io::read_datasheet_file(datasheet.string());
       const cli::Training trained = cli::train_calibration(measured, settings);

@@ -54,6 +54,7 @@ void Recorder::power(double time_s, bool on) {
 }
 
 bool Recorder::rotation_due() const {
+  if (!settings_.file_name.empty()) return false;
   if (settings_.max_rows && rows_in_file_ >= *settings_.max_rows) return true;
   return settings_.max_minutes && std::chrono::steady_clock::now() - opened_at_ >=
                                       std::chrono::minutes(*settings_.max_minutes);
@@ -63,10 +64,15 @@ void Recorder::open_file(const realtime::RawScan& first) {
   if (out_) out_->flush();
   writer_.reset();
   out_.reset();
-  std::filesystem::path path = settings_.directory / ("tofcompd-" + utc_stamp() + ".csv");
-  for (int n = 1; std::filesystem::exists(path); ++n) {
-    path = settings_.directory / ("tofcompd-" + utc_stamp() + "-" + std::to_string(n) + ".csv");
+  std::filesystem::path path = settings_.directory / settings_.file_name;
+  if (settings_.file_name.empty()) {
+    path = settings_.directory / ("tofcompd-" + utc_stamp() + ".csv");
+    for (int n = 1; std::filesystem::exists(path); ++n) {
+      path = settings_.directory / ("tofcompd-" + utc_stamp() + "-" + std::to_string(n) + ".csv");
+    }
   }
+  std::vector<std::string> columns = realtime::recording_columns();
+  if (settings_.true_range_mm) columns.emplace_back("true_range_mm");
   auto out = std::make_unique<std::ofstream>(path, std::ios::binary);
   if (!*out) throw core::Error("recording: cannot create " + path.string());
   const bool first_file = counters_.files == 0;
@@ -74,7 +80,7 @@ void Recorder::open_file(const realtime::RawScan& first) {
       *out,
       realtime::recording_metadata(first.ranges_mm.size(), first.start_angle_deg,
                                    first.resolution_deg),
-      realtime::recording_columns(), path.string());
+      std::move(columns), path.string());
   out_ = std::move(out);
   current_path_ = path;
   opened_at_ = std::chrono::steady_clock::now();
@@ -96,7 +102,14 @@ void Recorder::scan(const realtime::RawScan& scan) {
   if (!writer_ || rotation_due()) open_file(scan);
   std::vector<io::MeasurementRow> rows;
   realtime::append_scan_rows(scan, rows);
-  for (const auto& row : rows) write(row);
+  for (auto& row : rows) {
+    if (settings_.beams &&
+        (*row.beam < settings_.beams->first || *row.beam > settings_.beams->second)) {
+      continue;
+    }
+    row.true_range_mm = settings_.true_range_mm;
+    write(row);
+  }
   out_->flush();
   if (!*out_) throw core::Error("recording: cannot write " + current_path_.string());
   ++counters_.scans;

@@ -4,6 +4,10 @@
 // with the last case reading and power state, so it can be trained on or replayed alone; the
 // first file replays to the very outputs the daemon published. Written on the event loop,
 // flushed after every scan, so a crash loses at most the scan being written.
+//
+// A calibration run's data set (§8.1, daemon/power_cycle_run.hpp) is one such recording in one
+// named file, of the beams that face the target only, each range with the target's known
+// distance (true_range_mm) for training.
 #pragma once
 
 #include <chrono>
@@ -11,6 +15,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "io/measurement_csv.hpp"
@@ -22,6 +27,13 @@ struct RecorderSettings {
   std::filesystem::path directory;
   std::optional<long> max_rows;     // a new file after this many rows
   std::optional<long> max_minutes;  // or after this long
+  // One file of this name (in `directory`, replaced if it exists) and no rotation; empty: a
+  // timestamped name per rotation.
+  std::filesystem::path file_name = {};
+  // Only the beams first to last (inclusive); nullopt: every beam.
+  std::optional<std::pair<int, int>> beams = std::nullopt;
+  // Each range's reference distance (the true_range_mm column); nullopt: not known, no column.
+  std::optional<double> true_range_mm = std::nullopt;
 };
 
 struct RecorderCounters {

@@ -50,7 +50,7 @@ Twin::Twin(Scenario scenario)
 }
 
 bool Twin::power_on() const {
-  return power_at(scenario_.power, time_s_).on;
+  return power_override_.value_or(power_at(scenario_.power, time_s_).on);
 }
 
 void Twin::advance_to(double time_s) {
@@ -60,7 +60,9 @@ void Twin::advance_to(double time_s) {
     throw core::InvalidInput(msg.str());
   }
   while (time_s_ < time_s) {
-    const PowerAt power = power_at(scenario_.power, time_s_);
+    const PowerAt power = power_override_
+                              ? PowerAt{*power_override_, std::numeric_limits<double>::infinity()}
+                              : power_at(scenario_.power, time_s_);
     const double end = std::min(time_s, power.next_change_s);
     const double step = end - time_s_;
     if (step > 0.0) {

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -39,6 +40,9 @@ class Twin {
   // Integrates the thermal network exactly (zero-order hold) up to time_s, splitting the
   // interval at power changes. Throws InvalidInput when time_s is in the past.
   void advance_to(double time_s);
+  // From now on the scanner's power is `on` whatever the schedule says (the laser's heat input
+  // u of Eq. 4 is 0 while off), as when a host switches the supply; nullopt: the schedule again.
+  void set_power_override(std::optional<bool> on) { power_override_ = on; }
 
   // A case-sensor reading now: the case temperature plus noise, quantized to the resolution.
   double read_case_sensor();
@@ -61,6 +65,7 @@ class Twin {
   std::uniform_real_distribution<double> uniform_{0.0, 1.0};
   core::ContinuousThermalModel continuous_;
   double time_s_ = 0.0;
+  std::optional<bool> power_override_;
   Eigen::Vector2d state_;
   int last_mode_ = -1;
 

@@ -19,6 +19,8 @@ std::string to_string(RecalibrationSource source) {
       return "none";
     case RecalibrationSource::Recording:
       return "recording";
+    case RecalibrationSource::PowerCycleRun:
+      return "power_cycle_run";
   }
   return "?";
 }

@@ -129,8 +129,22 @@ struct RecordingConfig {
   bool operator==(const RecordingConfig&) const = default;
 };
 
-enum class RecalibrationSource { None, Recording };
+enum class RecalibrationSource { None, Recording, PowerCycleRun };
 enum class RecalibrationTrigger { OnRequest, AtStartIfMissing };
+
+// `recalibration.power_cycle_run`: the calibration run of §8.1. The daemon switches the
+// scanner's power on and off `cycles` times (on for on_s, off for off_s) with a target at a known
+// distance before it, records what it measures, then trains on the recording.
+struct PowerCycleRunConfig {
+  int cycles = 3;
+  double on_s = 3600.0;
+  double off_s = 560.0;
+  double true_range_mm = 0.0;       // the target's distance; required
+  BeamRange beams;                  // the beams that face the target; training uses the middle one
+  std::filesystem::path recording;  // the run's data set (interchange CSV); required
+  // The beam trained on: the middle of `beams`.
+  int training_beam() const { return (beams.first + beams.last) / 2; }
+};
 
 // `recalibration`: where a new calibration comes from and when it is made.
 struct RecalibrationConfig {
@@ -139,6 +153,7 @@ struct RecalibrationConfig {
   std::filesystem::path datasheet;  // Algorithm 1's datasheet values; required unless none
   std::filesystem::path output;     // where the calibration is written; default calibration.file
   std::filesystem::path data;       // source recording: the interchange CSV to train on
+  PowerCycleRunConfig power_cycle_run;  // source power_cycle_run
 };
 
 // `log`
@@ -161,7 +176,7 @@ struct DaemonConfig {
   LogConfig log;
 };
 
-// "none", "recording"; "on_request", "at_start_if_missing".
+// "none", "recording", "power_cycle_run"; "on_request", "at_start_if_missing".
 std::string to_string(RecalibrationSource source);
 std::string to_string(RecalibrationTrigger trigger);
 

@@ -37,6 +37,9 @@ sim::lms200::EmulatorSettings emulator_settings(const DaemonConfig& config) {
     try {
       settings.recording = io::read_measurements_file(emulator.recording.string());
       settings.recording_source = emulator.recording.string();
+      // The daemon takes every recorded scan, and the recorded readings with it
+      // (daemon/playback_feed.hpp): none is skipped while its driver brings the link up.
+      settings.hold_recorded_scans = true;
     } catch (const core::Error& e) {
       throw DaemonConfigError(config.source + ": emulator.recording (" +
                               emulator.recording.string() + ") cannot be used: " + e.what());

@@ -1,6 +1,7 @@
 // validate(): the rules of tofcompd.yaml that join two or more keys, each failure naming every
 // key involved. A key's own type and range are the section readers' to check.
 #include <string>
+#include <utility>
 
 #include "daemon/config/config_fields.hpp"
 #include "daemon/config/daemon_config.hpp"
@@ -64,6 +65,10 @@ class Rules {
                 config_.emulator.enabled,
             "case_sensor.backend simulated reads the emulator's twin: it needs "
             "emulator.enabled: true");
+    require(config_.emulator.recording.empty() ||
+                std::holds_alternative<hal::SimulatedSensorConfig>(sensor.sensor.backend),
+            "emulator.recording plays the recorded case readings to the daemon: "
+            "case_sensor.backend must be simulated");
     const auto& limits = sensor.sensor.limits;
     require(limits.min_c < limits.max_c,
             "case_sensor.limits.min_c (" + format_number(limits.min_c) +
@@ -98,10 +103,14 @@ class Rules {
     require(recal.output != recal.datasheet,
             "recalibration.output must not be recalibration.datasheet (" +
                 recal.datasheet.string() + ")");
-    require(!recal.data.empty(), "recalibration.recording.data is missing");
-    require(recal.output != recal.data,
-            "recalibration.output must not be recalibration.recording.data (" +
-                recal.data.string() + ")");
+    if (recal.source == RecalibrationSource::Recording) {
+      require(!recal.data.empty(), "recalibration.recording.data is missing");
+      require(recal.output != recal.data,
+              "recalibration.output must not be recalibration.recording.data (" +
+                  recal.data.string() + ")");
+    } else {
+      power_cycle_run();
+    }
     if (recal.trigger == RecalibrationTrigger::AtStartIfMissing) {
       require(!config_.calibration.file.empty() && recal.output == config_.calibration.file,
               "recalibration.trigger at_start_if_missing makes calibration.file when it is "
@@ -111,6 +120,27 @@ class Rules {
   }
 
  private:
+  void power_cycle_run() const {
+    const RecalibrationConfig& recal = config_.recalibration;
+    const PowerCycleRunConfig& run = recal.power_cycle_run;
+    require(config_.power.power_switch.has_value() || config_.emulator.enabled,
+            "recalibration.source power_cycle_run switches the scanner's power: it needs "
+            "power.switch (or emulator.enabled: true, whose scanner it switches)");
+    const int beams = config_.link.variant.values_per_scan();
+    require(run.beams.last < beams,
+            "recalibration.power_cycle_run.beams.last " + std::to_string(run.beams.last) +
+                " is beyond the scan of link.variant (" +
+                std::to_string(config_.link.variant.angle_deg) + "° at " +
+                format_number(config_.link.variant.resolution_centideg / 100.0) +
+                "°), whose beams are 0 to " + std::to_string(beams - 1));
+    require(!run.recording.empty(), "recalibration.power_cycle_run.recording is missing");
+    for (const auto& [other, key] : {std::pair{recal.output, "recalibration.output"},
+                                     std::pair{recal.datasheet, "recalibration.datasheet"}}) {
+      require(run.recording != other, "recalibration.power_cycle_run.recording must not be " +
+                                          std::string(key) + " (" + other.string() + ")");
+    }
+  }
+
   const DaemonConfig& config_;
   std::string source_;
 };

@@ -80,7 +80,8 @@ Lms2xxDriver::Lms2xxDriver(asio::io_context& io, DriverSettings settings, ScanHa
       port_(io),
       reply_wait_(io),
       idle_timer_(io, Clock::time_point::max()),
-      watch_timer_(io) {
+      watch_timer_(io),
+      backoff_timer_(io) {
   settings_.validate();
 }
 
@@ -103,7 +104,13 @@ void Lms2xxDriver::stop() {
   reply_wait_.cancel();
   idle_timer_.cancel();
   watch_timer_.cancel();
+  backoff_timer_.cancel();
   set_state(LinkState::Stopped, "stopped by the host");
+}
+
+void Lms2xxDriver::reconnect_now() {
+  backoff_reset_ = true;
+  backoff_timer_.cancel();
 }
 
 void Lms2xxDriver::set_state(LinkState state, const std::string& why) {
@@ -189,9 +196,15 @@ awaitable<void> Lms2xxDriver::supervise() {
     // Backing off is for a device that does not answer: one that answered and then failed
     // (a damaged reply, a reset in the middle) is tried again after the shortest wait.
     if (device_answered_) backoff = settings_.backoff_initial;
+    if (backoff_reset_) backoff = settings_.backoff_initial;
+    backoff_reset_ = false;
     set_state(LinkState::Backoff, why);
-    co_await sleep(backoff);
-    backoff = std::min(backoff * 2, settings_.backoff_max);
+    backoff_timer_.expires_after(backoff);
+    boost::system::error_code ignored;
+    co_await backoff_timer_.async_wait(asio::redirect_error(use_awaitable, ignored));
+    backoff =
+        backoff_reset_ ? settings_.backoff_initial : std::min(backoff * 2, settings_.backoff_max);
+    backoff_reset_ = false;
   }
 }
 

@@ -78,6 +78,11 @@ class Lms2xxDriver {
   // cancellations (or has stopped).
   void stop();
 
+  // The device was just powered (its host switched the supply on): a wait between failed
+  // bring-ups ends now, and the backoff starts again from its shortest, since the failures
+  // while it was off were no fault of the link.
+  void reconnect_now();
+
   LinkState state() const { return state_; }
   const DriverCounters& counters() const;
   const DriverSettings& settings() const { return settings_; }
@@ -92,6 +97,7 @@ class Lms2xxDriver {
   boost::asio::steady_timer reply_wait_;
   boost::asio::steady_timer idle_timer_;
   boost::asio::steady_timer watch_timer_;
+  boost::asio::steady_timer backoff_timer_;
   TelegramDecoder decoder_{Sender::Device};
   mutable DriverCounters counters_;
   LinkState state_ = LinkState::Stopped;
@@ -99,6 +105,7 @@ class Lms2xxDriver {
   std::optional<unsigned> last_device_baud_;
   std::unique_ptr<Pending> pending_;
   bool stopping_ = false;
+  bool backoff_reset_ = false;  // reconnect_now() was called
   bool link_lost_ = false;
   bool device_reset_seen_ = false;
   bool device_answered_ = false;  // a telegram, ACK or NAK since the last bring-up began

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <boost/asio.hpp>
 #include <deque>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -105,10 +106,25 @@ class Emulator::Server {
     return recording_ ? recording_->time_s() : twin_.time_s();
   }
 
-  bool power_on() const { return powered_; }
+  bool power_on() const {
+    const int switched = power_switch_;
+    return switched >= 0 ? switched == 1 : powered_.load();
+  }
+
+  void set_power(bool on) {
+    power_switch_ = on ? 1 : 0;
+    asio::post(io_, [this, on] {
+      {
+        std::lock_guard lock(mutex_);
+        twin_.set_power_override(on);
+      }
+      switch_power(on);
+    });
+  }
 
   ScanObserver scan_observer;
   FaultObserver fault_observer;
+  PlaybackObserver playback_observer;
 
  private:
   EmulatorSettings settings_;
@@ -117,6 +133,8 @@ class Emulator::Server {
   Twin twin_;
   std::optional<RecordingPlayback> recording_;  // played instead of the twin when set
   std::vector<RangeReading> recorded_scan_;     // the recorded scan due to be sent
+  double recorded_scan_time_ = 0.0;             // and its recorded time
+  Clock::time_point playback_origin_{};         // the wall time of the recording's start
   Lms200Device device_;
   FaultInjector injector_;
   EmulatorCounters counters_;
@@ -127,7 +145,8 @@ class Emulator::Server {
   std::uint64_t generation_ = 0;  // bumped on each hang-up: the old reader ends
   std::deque<DeviceOutput> queue_;
   bool writing_ = false;
-  std::atomic<bool> powered_ = false;  // read by power_on() from other threads
+  std::atomic<bool> powered_ = false;   // read by power_on() from other threads
+  std::atomic<int> power_switch_ = -1;  // set_power(): 1 on, 0 off; -1 never switched
   asio::steady_timer wake_writer_{io_, Clock::time_point::max()};
   asio::steady_timer wake_streamer_{io_, Clock::time_point::max()};
   Clock::time_point stalled_until_{};
@@ -264,7 +283,7 @@ class Emulator::Server {
         {
           std::lock_guard lock(mutex_);
           sent.sequence = counters_.scans_sent++;
-          sent.twin_time_s = recording_ ? recording_->time_s() : twin_.time_s();
+          sent.twin_time_s = recording_ ? recorded_scan_time_ : twin_.time_s();
         }
         sent.readings = &readings;
         sent.units = device_.configuration().units();
@@ -378,7 +397,7 @@ class Emulator::Server {
   // readings, power changes) at their recorded times, scaled; at time_scale 0 as fast as the
   // host reads, each scan held until the host streams and each event until the line is idle.
   awaitable<void> play_recording() {
-    const Clock::time_point wall_start = Clock::now();
+    playback_origin_ = Clock::now();
     const double recording_start = recording_->time_s();
     for (;;) {
       std::optional<double> due;
@@ -392,7 +411,7 @@ class Emulator::Server {
         continue;
       }
       if (settings_.time_scale > 0.0) {
-        const auto at = wall_start + seconds((*due - recording_start) / settings_.time_scale);
+        const auto at = playback_origin_ + seconds((*due - recording_start) / settings_.time_scale);
         if (Clock::now() < at) {
           co_await wait(wake_streamer_, at - Clock::now());
           continue;  // maybe woken early by a request
@@ -406,32 +425,66 @@ class Emulator::Server {
       {
         std::lock_guard lock(mutex_);
         recording_->advance_to(std::max(*due, recording_->time_s()));
-        on = recording_->power_on();
+        const int switched = power_switch_;
+        on = switched >= 0 ? switched == 1 : recording_->power_on();
         const std::optional<double> next_scan = recording_->next_scan_time();
         scan_due = next_scan && *next_scan <= recording_->time_s();
       }
+      report_played_events();
       switch_power(on);
       if (scan_due) co_await send_recorded_scan();
     }
   }
 
+  // Hands the case readings and power changes the playback has passed, in the recording's
+  // order, to the observer.
+  void report_played_events() {
+    std::vector<RecordingPlayback::Event> events;
+    {
+      std::lock_guard lock(mutex_);
+      events = recording_->take_played_events();
+    }
+    if (!playback_observer) return;
+    for (const auto& e : events) {
+      playback_observer(PlaybackEvent{e.time_s, e.case_c, e.power, {}});
+    }
+  }
+
   // Takes the next recorded scan and sends it if the device streams and the line is free; at
-  // time_scale 0 it waits for both first.
+  // time_scale 0, or holding recorded scans, it waits for both first (a hold pauses the
+  // playback clock).
   awaitable<void> send_recorded_scan() {
-    if (settings_.time_scale == 0.0) {
+    if (settings_.time_scale == 0.0 || settings_.hold_recorded_scans) {
+      const Clock::time_point held_from = Clock::now();
       while (powered_ && !(device_.streaming() && idle() && rates_match())) {
         co_await wait(wake_streamer_, std::chrono::milliseconds(20));
       }
+      playback_origin_ += Clock::now() - held_from;
     }
-    std::lock_guard lock(mutex_);
-    std::vector<RangeReading> scan = recording_->next_scan();
-    if (!powered_ || !device_.streaming()) co_return;
-    if (idle()) {
-      recorded_scan_ = std::move(scan);  // idle: the writer holds no scan it has yet to draw
-      enqueue(DeviceOutput{DeviceOutput::Action::SendScan, {}, 0});
-    } else {
-      ++counters_.scans_skipped;
+    {
+      std::lock_guard lock(mutex_);
+      const double time_s = *recording_->next_scan_time();
+      std::vector<RangeReading> scan = recording_->next_scan();
+      if (!powered_ || !device_.streaming()) {
+        // Not sent: the device is off, or no host streams.
+      } else if (idle()) {
+        recorded_scan_ = std::move(scan);  // idle: the writer holds no scan it has yet to draw
+        recorded_scan_time_ = time_s;
+        enqueue(DeviceOutput{DeviceOutput::Action::SendScan, {}, 0});
+        if (playback_observer) {
+          PlaybackEvent sent{time_s, std::nullopt, std::nullopt, {}};
+          for (const RangeReading& r : recorded_scan_) {
+            sent.scan_ranges_mm.push_back(r.status == ReadingStatus::Valid
+                                              ? r.range_mm
+                                              : std::numeric_limits<double>::quiet_NaN());
+          }
+          playback_observer(sent);
+        }
+      } else {
+        ++counters_.scans_skipped;
+      }
     }
+    report_played_events();  // those recorded after the scan at its very time
   }
 };
 
@@ -443,6 +496,9 @@ void Emulator::on_scan_sent(ScanObserver observer) {
 }
 void Emulator::on_fault(FaultObserver observer) {
   server_->fault_observer = std::move(observer);
+}
+void Emulator::on_playback_event(PlaybackObserver observer) {
+  server_->playback_observer = std::move(observer);
 }
 void Emulator::start() {
   server_->start();
@@ -464,6 +520,9 @@ double Emulator::twin_time_s() const {
 }
 bool Emulator::power_on() const {
   return server_->power_on();
+}
+void Emulator::set_power(bool on) {
+  server_->set_power(on);
 }
 
 }  // namespace tofcomp::sim::lms200

@@ -8,7 +8,15 @@
 // recorded, and the case sensor, power sense and clock answer from the recording. The device
 // sends what the recording holds and does not resample: the host must configure the recorded
 // variant (the one whose values per scan equal the recording's `beams`), or it receives scans
-// of the wrong length. After the last scan the link stays up but no scan is sent.
+// of the wrong length. After the last scan the link stays up but no scan is sent. With
+// hold_recorded_scans, no recorded scan is lost: one due while the host does not stream waits
+// for it (and the playback clock waits with it). Each recorded case reading, power change and
+// scan is reported to an observer as it is played, in the recording's order, so that a daemon
+// in the same process can take them at their recorded instants.
+//
+// set_power() is the scanner's supply switch: off stops the scans and the twin's laser heat
+// input, on restarts the device, which announces itself as after a power-on; the host brings it
+// up again.
 #pragma once
 
 #include <chrono>
@@ -46,13 +54,26 @@ struct EmulatorSettings {
   // `beams` must be the values per scan of an LMS 200 variant (101, 181, 201, 361 or 401).
   std::optional<io::MeasurementTable> recording;
   std::string recording_source = "recording";
+  // Playing a recording: hold a recorded scan due while the host does not stream (or the line
+  // is busy) until it does, pausing the playback clock, instead of skipping it. Without a host
+  // the playback then waits at the first scan.
+  bool hold_recorded_scans = false;
+};
+
+// A recorded case reading, power change or scan, as the playback passes it.
+struct PlaybackEvent {
+  double time_s = 0.0;           // the recording's time
+  std::optional<double> case_c;  // a case reading
+  std::optional<bool> power;     // a power change
+  // A scan handed to the line: its ranges per beam (NaN: no echo); empty for the others.
+  std::vector<double> scan_ranges_mm = {};
 };
 
 // A scan as the twin drew it (or the recording held it) and the device sent it (before any fault
 // was applied to its bytes).
 struct SentScan {
   std::uint64_t sequence = 0;  // counts every scan sent, from 0
-  double twin_time_s = 0.0;
+  double twin_time_s = 0.0;    // playing a recording: the scan's recorded time
   const std::vector<RangeReading>* readings = nullptr;  // valid during the callback only
   hal::lms2xx::Units units = hal::lms2xx::Units::Millimetre;
   LinkFault fault = LinkFault::None;
@@ -74,6 +95,7 @@ class Emulator {
  public:
   using ScanObserver = std::function<void(const SentScan&)>;
   using FaultObserver = std::function<void(LinkFault, std::chrono::steady_clock::time_point)>;
+  using PlaybackObserver = std::function<void(const PlaybackEvent&)>;
 
   // Throws core::InvalidInput for a bad scenario, fault rates or recording (one whose beams
   // match no LMS 200 variant).
@@ -85,6 +107,9 @@ class Emulator {
   // Observers run on the emulator's thread; set them before start().
   void on_scan_sent(ScanObserver observer);
   void on_fault(FaultObserver observer);
+  // Playing a recording: each recorded case reading, power change and scan as it is played, in
+  // the recording's order (a scan when it is queued for the line, before any event after it).
+  void on_playback_event(PlaybackObserver observer);
 
   // Opens the pty and starts serving. Throws core::Error when the pty cannot be opened.
   void start();
@@ -99,8 +124,12 @@ class Emulator {
   // The twin's clock, seconds since the scenario began; playing a recording, its clock.
   double twin_time_s() const;
   // Whether the twin's scanner is powered now (thread-safe): the simulated power sense.
-  // Playing a recording: the recorded power state.
+  // Playing a recording: the recorded power state. After set_power(), the switch's state.
   bool power_on() const;
+  // Switches the scanner's supply (thread-safe), from now on whatever the scenario's schedule or
+  // the recording says: off stops the scans and the twin's laser heat input (u = 0, Eq. 4);
+  // on powers the device up again (a restart, then its power-on telegram).
+  void set_power(bool on);
 
  private:
   class Server;

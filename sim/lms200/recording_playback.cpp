@@ -52,6 +52,9 @@ RecordingPlayback::RecordingPlayback(const io::MeasurementTable& table, const st
       scan_open = false;
       if (row.power) power_changes_.push_back({row.time_s, *row.power});
       if (row.case_temp_c) case_readings_.push_back({row.time_s, *row.case_temp_c});
+      if (row.power || row.case_temp_c) {
+        events_.push_back({{row.time_s, row.case_temp_c, row.power}, scans_.size()});
+      }
       continue;
     }
     if (!scan_open || row.time_s != scans_.back().time_s) {
@@ -120,6 +123,15 @@ std::vector<RangeReading> RecordingPlayback::next_scan() {
     }
   }
   return readings;
+}
+
+std::vector<RecordingPlayback::Event> RecordingPlayback::take_played_events() {
+  std::vector<Event> taken;
+  while (next_event_ < events_.size() && events_[next_event_].event.time_s <= time_s_ &&
+         events_[next_event_].scans_before <= next_scan_) {
+    taken.push_back(events_[next_event_++].event);
+  }
+  return taken;
 }
 
 std::optional<double> RecordingPlayback::next_event_time() const {

@@ -50,6 +50,17 @@ class RecordingPlayback {
   // Every scan played and the clock at the recording's last reading or power change.
   bool finished() const { return !next_event_time().has_value(); }
 
+  // A recorded case reading or power change.
+  struct Event {
+    double time_s = 0.0;
+    std::optional<double> case_c;
+    std::optional<bool> power;
+  };
+  // The case readings and power changes at or before now that the recording holds before the
+  // next unplayed scan, not taken yet, in file order: taken after each step of the clock and
+  // after each scan played, they come in the recording's order relative to its scans.
+  std::vector<Event> take_played_events();
+
  private:
   struct Scan {
     double time_s = 0.0;
@@ -65,6 +76,12 @@ class RecordingPlayback {
   std::vector<Scan> scans_;
   std::vector<Timed<double>> case_readings_;
   std::vector<Timed<bool>> power_changes_;
+  struct OrderedEvent {
+    Event event;
+    std::size_t scans_before = 0;  // the scans the file holds before it
+  };
+  std::vector<OrderedEvent> events_;  // case readings and power changes in file order
+  std::size_t next_event_ = 0;        // the first not taken
   std::size_t next_scan_ = 0;
   double time_s_ = 0.0;
 };

@@ -119,6 +119,35 @@ TEST(Twin, SeededAndReproducible) {
   EXPECT_GT(differ, 1000);
 }
 
+// A host's power switch overrides the schedule: off, the laser's heat input is 0 (u of Eq. 4)
+// and the twin cools exactly as with the power off in its schedule; on again, it heats as a
+// schedule that is on. Released, the schedule decides again.
+TEST(Twin, PowerOverrideSetsTheHeatInputWhateverTheSchedule) {
+  Scenario on_schedule = bench_scenario();
+  on_schedule.power = {{true, 50000.0}};
+  Scenario off_schedule = bench_scenario();
+  off_schedule.power = {{true, 1000.0}, {false, 49000.0}};
+  Twin switched(on_schedule);
+  Twin scheduled(off_schedule);
+  switched.advance_to(1000.0);
+  scheduled.advance_to(1000.0);
+  switched.set_power_override(false);
+  EXPECT_FALSE(switched.power_on());
+  switched.advance_to(2500.0);
+  scheduled.advance_to(2500.0);
+  EXPECT_DOUBLE_EQ(switched.case_c(), scheduled.case_c());
+  EXPECT_DOUBLE_EQ(switched.junction_c(), scheduled.junction_c());
+  EXPECT_LT(switched.junction_c(), 22.0 + 10.0 * 0.7 - 1.0);  // cooled from the heated state
+
+  Twin heated(off_schedule);
+  heated.set_power_override(true);
+  heated.advance_to(40000.0);  // the schedule says off from 1000 s: the override keeps it on
+  EXPECT_TRUE(heated.power_on());
+  EXPECT_NEAR(heated.junction_c(), 22.0 + 10.0 * 0.7, 1e-3);
+  heated.set_power_override(std::nullopt);
+  EXPECT_FALSE(heated.power_on());
+}
+
 TEST(Twin, RejectsSteppingBack) {
   Twin twin(bench_scenario());
   twin.advance_to(10.0);

@@ -116,8 +116,9 @@ TEST(ConfigErrors, BadChoices) {
                "outputs.shm.name must be a shared-memory name like \"/tofcompd\"");
   expect_error(kMinimal + "compensation: {em: {m_step: fast}}\n",
                "compensation.em.m_step must be one of exact, paper, not \"fast\"");
-  expect_error(kMinimal + "recalibration: {source: magic}\n",
-               "recalibration.source must be one of none, recording, not \"magic\"");
+  expect_error(
+      kMinimal + "recalibration: {source: magic}\n",
+      "recalibration.source must be one of none, recording, power_cycle_run, not \"magic\"");
   expect_error("link: {device: /dev/ttyS0}\ncase_sensor: {backend: w1, w1: {device_id: 10-abc}}\n",
                "case_sensor.w1.device_id must be a DS18B20 id like \"28-0000075565b2\"");
 }
@@ -176,6 +177,43 @@ TEST(ConfigErrors, SectionsOfAnotherBackendOrSource) {
       "link: {device: /dev/ttyS0}\n"
       "case_sensor: {backend: hwmon, hwmon: {name: lm75, directory: /sys/x}}\n",
       "test.yaml: case_sensor.hwmon must give exactly one of directory and name");
+}
+
+// recalibration.power_cycle_run: each bad key is named with what it must be.
+TEST(ConfigErrors, PowerCycleRunKeysAreCheckedAndNamed) {
+  const std::string head =
+      kMinimal +
+      "power: {switch: {chip: gpiochip0, line: 17}}\n"
+      "recalibration: {source: power_cycle_run, datasheet: d.yaml, output: c.yaml,\n"
+      "  power_cycle_run: {";
+  const std::string good = "true_range_mm: 3000, beams: {first: 180}, recording: run.csv";
+  expect_error(head + good + ", cycles: 0}}\n",
+               "test.yaml: recalibration.power_cycle_run.cycles must be between 1 and 1000, not 0");
+  expect_error(head + good + ", on_s: 0}}\n",
+               "test.yaml: recalibration.power_cycle_run.on_s must be greater than 0 and at most "
+               "86400, not 0");
+  expect_error(head + good + ", off_s: -5}}\n",
+               "test.yaml: recalibration.power_cycle_run.off_s must be greater than 0 and at most "
+               "86400, not -5");
+  expect_error(head + "beams: {first: 180}, recording: run.csv}}\n",
+               "test.yaml: recalibration.power_cycle_run.true_range_mm is missing");
+  expect_error(head + "true_range_mm: 3000, recording: run.csv}}\n",
+               "test.yaml: recalibration.power_cycle_run.beams is missing");
+  expect_error(head + "true_range_mm: 3000, beams: {first: 180}}}\n",
+               "test.yaml: recalibration.power_cycle_run.recording is missing");
+  expect_error(head + "true_range_mm: 3000, beams: {first: 180, last: 170}, recording: r.csv}}\n",
+               "recalibration.power_cycle_run.beams.last must be at least "
+               "recalibration.power_cycle_run.beams.first (180), not 170");
+  expect_error(head + good + ", beam: 180}}\n", "recalibration.power_cycle_run.beam");
+  expect_error(kMinimal + "recalibration: {source: recording, power_cycle_run: {cycles: 2}}\n",
+               "test.yaml: recalibration.power_cycle_run applies to source power_cycle_run "
+               "only; source is recording");
+  const DaemonConfig c = parse(head + good + ", cycles: 2, on_s: 1.5, off_s: 0.5}}\n");
+  EXPECT_EQ(c.recalibration.power_cycle_run.cycles, 2);
+  EXPECT_EQ(c.recalibration.power_cycle_run.on_s, 1.5);
+  EXPECT_EQ(c.recalibration.power_cycle_run.off_s, 0.5);
+  EXPECT_EQ(c.recalibration.power_cycle_run.true_range_mm, 3000.0);
+  EXPECT_EQ(c.recalibration.power_cycle_run.beams, (BeamRange{180, 180}));
 }
 
 TEST(ConfigErrors, KeyGivenTwiceNamesItsLine) {

@@ -116,6 +116,40 @@ TEST(CrossFieldRules, RecalibrationNeedsSomewhereToWriteAndAPowerSwitch) {
   EXPECT_EQ(c.recalibration.output, "/etc/tofcompd/c.yaml");  // calibration.file
 }
 
+TEST(CrossFieldRules, PowerCycleRunNeedsASwitchAndBeamsInTheScan) {
+  const std::string run =
+      "calibration: {file: c.yaml}\n"
+      "recalibration: {source: power_cycle_run, datasheet: d.yaml,\n"
+      "  power_cycle_run: {true_range_mm: 3000, recording: run.csv, beams: ";
+  // Nothing to switch: neither a GPIO line nor the emulated scanner.
+  expect_rule(kMinimal + run + "{first: 180}}}\n", {"recalibration.source", "power.switch"});
+  const std::string gpio = "power: {switch: {chip: gpiochip0, line: 17}}\n";
+  expect_rule(kMinimal + gpio + run + "{first: 178, last: 361}}}\n",
+              {"recalibration.power_cycle_run.beams.last", "link.variant"});
+  expect_rule(
+      kMinimal + gpio + run.substr(0, run.find("run.csv")) + "c.yaml, beams: {first: 1}}}\n",
+      {"recalibration.power_cycle_run.recording", "recalibration.output"});
+  // Just inside: the last beam of 180° at 0.5°; the emulated scanner's supply as the switch.
+  const DaemonConfig c = parse(kMinimal + gpio + run + "{first: 178, last: 360}}}\n");
+  EXPECT_EQ(c.recalibration.source, RecalibrationSource::PowerCycleRun);
+  EXPECT_EQ(c.recalibration.power_cycle_run.beams, (BeamRange{178, 360}));
+  EXPECT_EQ(c.recalibration.power_cycle_run.training_beam(), 269);
+  EXPECT_EQ(c.recalibration.power_cycle_run.recording, "/etc/tofcompd/run.csv");
+  EXPECT_EQ(c.recalibration.power_cycle_run.cycles, 3);  // the defaults
+  EXPECT_EQ(c.recalibration.power_cycle_run.on_s, 3600.0);
+  EXPECT_EQ(c.recalibration.power_cycle_run.off_s, 560.0);
+  EXPECT_NO_THROW(parse(kEmulated + run + "{first: 180}}}\n"));
+}
+
+TEST(CrossFieldRules, PlayingARecordingTakesItsCaseReadings) {
+  expect_rule(
+      "emulator: {enabled: true, scenario: s.yaml, recording: r.csv}\n"
+      "case_sensor: {backend: hwmon, hwmon: {name: lm75}}\n",
+      {"emulator.recording", "case_sensor.backend"});
+  EXPECT_NO_THROW(parse(kEmulated.substr(0, kEmulated.find('}')) + ", recording: r.csv" +
+                        kEmulated.substr(kEmulated.find('}'))));
+}
+
 TEST(CrossFieldRules, AtStartIfMissingWritesTheCalibrationFile) {
   expect_rule(kMinimal + "recalibration: {trigger: at_start_if_missing}\n",
               {"recalibration.trigger", "recalibration.source"});

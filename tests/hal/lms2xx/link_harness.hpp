@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <utility>
@@ -55,8 +56,11 @@ struct ReceivedRecord {
 
 class LinkHarness {
  public:
-  LinkHarness(emu::EmulatorSettings emulator_settings, lms::DriverSettings driver_settings)
+  // `configure` (may be empty) sets the emulator's further observers before it starts.
+  LinkHarness(emu::EmulatorSettings emulator_settings, lms::DriverSettings driver_settings,
+              const std::function<void(emu::Emulator&)>& configure = {})
       : emulator_(std::move(emulator_settings)) {
+    if (configure) configure(emulator_);
     emulator_.on_scan_sent([this](const emu::SentScan& s) {
       std::lock_guard lock(mutex_);
       sent_.push_back(
@@ -147,6 +151,15 @@ class LinkHarness {
   }
 
   const lms::DriverCounters& driver_counters() const { return driver_->counters(); }
+  // While running: the emulated device itself (its supply switch), and the driver on its loop.
+  emu::Emulator& emulator() { return emulator_; }
+  void on_driver(std::function<void(lms::Lms2xxDriver&)> action) {
+    boost::asio::post(io_, [this, action = std::move(action)] { action(*driver_); });
+  }
+  std::size_t received_count() {
+    std::lock_guard lock(mutex_);
+    return received_.size();
+  }
   emu::EmulatorCounters emulator_counters() const { return emulator_.counters(); }
 
  private:

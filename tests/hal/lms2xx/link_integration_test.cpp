@@ -129,6 +129,34 @@ TEST(Lms2xxLink, TheLineRateLimitsContinuousOutputInRealTime) {
   EXPECT_EQ(check_delivered_against_sent(link), link.received().size());
 }
 
+// The emulated device's supply switched off: no scan comes, however long the host waits; on
+// again, the device restarts and, told the power is back, the host brings it up at once
+// (reconnect_now ends its backoff), and the scans come again.
+TEST(Lms2xxLink, TheEmulatedSupplySwitchStopsAndRestartsTheScans) {
+  emu::EmulatorSettings settings = fast_emulator();
+  settings.time_scale = 1.0;
+  lms::DriverSettings driver = driver_at(500000);
+  driver.scan_timeout = 300ms;
+  driver.backoff_max = 10000ms;  // an unheard device would leave the host waiting long
+  LinkHarness link(settings, driver);
+  link.start();
+  ASSERT_TRUE(link.wait_for_scans(20, 20s));
+  link.emulator().set_power(false);
+  EXPECT_FALSE(link.emulator().power_on());
+  std::this_thread::sleep_for(200ms);  // a scan already on the line may still arrive
+  const std::size_t at_off = link.received_count();
+  std::this_thread::sleep_for(3s);  // the host backs off, ever longer, against a silent device
+  EXPECT_EQ(link.received_count(), at_off) << "a switched-off device sent scans";
+  link.emulator().set_power(true);
+  EXPECT_TRUE(link.emulator().power_on());
+  link.on_driver([](lms::Lms2xxDriver& d) { d.reconnect_now(); });
+  const auto powered = std::chrono::steady_clock::now();
+  ASSERT_TRUE(link.wait_for_scans(at_off + 20, 5s)) << "no scans after the power came back";
+  EXPECT_LT(std::chrono::steady_clock::now() - powered, 3s);
+  link.stop();
+  EXPECT_GE(link.driver_counters().bring_ups, 2u);
+}
+
 TEST(Lms2xxLink, ANonexistentPortBacksOffAndSaysWhy) {
   boost::asio::io_context io;
   lms::DriverSettings d = driver_at(500000);

@@ -147,6 +147,42 @@ TEST(RecordingPlayback, StepsFromEventToEventToTheEnd) {
   EXPECT_EQ(playback.next_scan_time(), std::nullopt);
 }
 
+// The case readings and power changes come out in file order relative to the scans: those
+// before a scan when the clock reaches them, those after it (even at its very time) only once
+// it was played.
+TEST(RecordingPlayback, PlayedEventsKeepTheirOrderAroundTheScans) {
+  io::MeasurementTableBuilder builder;
+  for (const auto& m : realtime::recording_metadata(kBeams, 0.0, 0.5)) {
+    builder.add_metadata(m.key, m.value);
+  }
+  builder.append({.time_s = 0.0, .case_temp_c = 22.5});
+  builder.append({.time_s = 0.0, .power = true});
+  append_scan(builder, 0, kBeams);                        // at 0.0
+  builder.append({.time_s = 0.0, .case_temp_c = 22.75});  // after it, at its time
+  append_scan(builder, 1, kBeams);                        // at 0.1
+  builder.append({.time_s = 0.15, .power = false});
+  RecordingPlayback playback(builder.finish(), "order.csv");
+
+  std::vector<RecordingPlayback::Event> before = playback.take_played_events();
+  ASSERT_EQ(before.size(), 2u);
+  EXPECT_EQ(before[0].case_c, 22.5);
+  EXPECT_EQ(before[1].power, true);
+  EXPECT_TRUE(playback.take_played_events().empty());  // the reading at 0.0 waits for scan 0
+  playback.next_scan();
+  const auto after = playback.take_played_events();
+  ASSERT_EQ(after.size(), 1u);
+  EXPECT_EQ(after[0].case_c, 22.75);
+  EXPECT_EQ(after[0].time_s, 0.0);
+  playback.advance_to(0.1);
+  playback.next_scan();
+  EXPECT_TRUE(playback.take_played_events().empty());  // the power change is at 0.15
+  playback.advance_to(0.15);
+  const auto last = playback.take_played_events();
+  ASSERT_EQ(last.size(), 1u);
+  EXPECT_EQ(last[0].power, false);
+  EXPECT_TRUE(playback.finished());
+}
+
 TEST(RecordingPlayback, BadRecordingsAreRefusedNamingWhereAndWhat) {
   const auto message_of = [](const io::MeasurementTable& table) {
     try {
@@ -287,6 +323,65 @@ TEST(EmulatorPlayingARecording, WithNoHostPlaysToTheEndAndAnswersWithTheLastReco
   EXPECT_TRUE(emulator.power_on());
   EXPECT_EQ(emulator.counters().scans_sent, 0u);  // no host ever asked for scans
   emulator.stop();
+}
+
+// Holding recorded scans for the host: every recorded scan reaches it, even those due while it
+// was still bringing the link up, and the observer hears every reading, power change and scan
+// in the recording's order, each scan with its recorded time and ranges.
+TEST(EmulatorPlayingARecording, HoldingScansDeliversEveryOneAndReportsEventsInOrder) {
+  EmulatorSettings settings = playing(4.0);  // 1.5 recorded seconds in 0.375 s, if not held
+  settings.hold_recorded_scans = true;
+  std::mutex mutex;
+  std::vector<PlaybackEvent> events;
+  test::LinkHarness link(settings, host_driver(), [&](Emulator& emulator) {
+    emulator.on_playback_event([&](const PlaybackEvent& e) {
+      std::lock_guard lock(mutex);
+      events.push_back(e);
+    });
+  });
+  link.start();
+  ASSERT_TRUE(link.wait_for_scans(kScans, 25s)) << "fewer than " << kScans << " scans arrived";
+  ASSERT_TRUE(wait_for_playback_end(link, 10s));
+  link.stop();
+  ASSERT_EQ(link.received().size(), kScans);
+  for (std::size_t k = 0; k < kScans; ++k) {
+    EXPECT_EQ(link.received()[k].codes, recorded_codes(k)) << "scan " << k;
+  }
+  // The recording's rows in file order, one event per reading, power change and scan.
+  const io::MeasurementTable table = recording();
+  std::vector<double> expected_times;
+  std::vector<char> expected_kinds;
+  double last_scan = -1.0;
+  for (const auto& row : table.rows) {
+    if (row.range_mm) {
+      if (row.time_s == last_scan) continue;  // the scan's other beams
+      last_scan = row.time_s;
+      expected_kinds.push_back('s');
+    } else {
+      last_scan = -1.0;
+      expected_kinds.push_back(row.power ? 'p' : 'c');
+    }
+    expected_times.push_back(row.time_s);
+  }
+  std::lock_guard lock(mutex);
+  ASSERT_EQ(events.size(), expected_kinds.size());
+  std::size_t scan = 0;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    const char kind = !events[i].scan_ranges_mm.empty() ? 's' : events[i].power ? 'p' : 'c';
+    EXPECT_EQ(kind, expected_kinds[i]) << "event " << i;
+    EXPECT_EQ(events[i].time_s, expected_times[i]) << "event " << i;
+    if (kind != 's') continue;
+    ASSERT_EQ(events[i].scan_ranges_mm.size(), kBeams);
+    for (std::size_t b = 0; b < kBeams; ++b) {
+      if (recorded_no_echo(scan, b)) {
+        EXPECT_TRUE(std::isnan(events[i].scan_ranges_mm[b]));
+      } else {
+        EXPECT_EQ(events[i].scan_ranges_mm[b], recorded_range_mm(scan, b));
+      }
+    }
+    ++scan;
+  }
+  EXPECT_EQ(scan, kScans);
 }
 
 TEST(EmulatorPlayingARecording, RefusesARecordingNoVariantCarries) {

@@ -1,0 +1,69 @@
+// What the end-to-end tests share: the daemon's configuration for a run on its emulated LMS 200
+// in a temporary directory, and reading the scans its socket sends.
+#pragma once
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace tofcomp::test {
+
+// The daemon on the emulated LMS 200 of the default scenario at time scale 1, its simulated
+// case sensor read every 200 ms, `calibration`, recording into dir/recordings, its socket in
+// `dir` and its ring at `shm_name`.
+inline std::string config_text(const std::filesystem::path& dir, const std::string& shm_name,
+                               const std::string& calibration) {
+  const std::string root = TOFCOMP_SOURCE_ROOT;
+  return "emulator:\n"
+         "  enabled: true\n"
+         "  scenario: " +
+         root +
+         "/config/scenarios/default.yaml\n"
+         "  time_scale: 1.0\n"
+         "case_sensor:\n"
+         "  backend: simulated\n"
+         "  poll_interval_ms: 200\n"
+         "calibration:\n"
+         "  file: " +
+         calibration +
+         "\n"
+         "outputs:\n"
+         "  socket:\n"
+         "    path: " +
+         (dir / "tofcompd.sock").string() +
+         "\n"
+         "    max_queued_bytes_per_client: 16777216\n"
+         "  shm:\n"
+         "    name: " +
+         shm_name +
+         "\n"
+         "recording:\n"
+         "  enabled: true\n"
+         "  directory: " +
+         (dir / "recordings").string() +
+         "\n"
+         "log:\n"
+         "  level: info\n"
+         "  target: stderr\n";
+}
+
+inline void write_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+}
+
+inline const nlohmann::json& scan_of(const nlohmann::json& message) {
+  return message.contains("scan") ? message["scan"] : message;
+}
+
+inline double number(const nlohmann::json& v) {
+  return v.is_null() ? std::nan("") : v.get<double>();
+}
+
+inline bool same(double a, double b) {
+  return (std::isnan(a) && std::isnan(b)) || a == b;
+}
+
+}  // namespace tofcomp::test
