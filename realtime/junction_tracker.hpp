@@ -25,6 +25,9 @@ struct JunctionEstimate {
   double junction_std_c = 0.0;
   double case_c = 0.0;  // the last reading accepted
   bool stale = false;   // no reading within stale_after_s of the scan
+  // dt^j/dt in °C/min (realtime/heating_rate.hpp): filled by the compensation pipeline when
+  // the calibration's extension needs it, 0 otherwise.
+  double heating_rate_c_per_min = 0.0;
 };
 
 class JunctionTracker {
