@@ -7,7 +7,6 @@ CompensationPipeline::CompensationPipeline(PipelineSettings settings)
 
 void CompensationPipeline::restart_tracker() {
   tracker_.reset();
-  heating_rate_.reset();
   if (!calibration_) return;
   tracker_.emplace(*calibration_, settings_.junction);
   if (power_) tracker_->set_power(power_->first, power_->second);
@@ -26,7 +25,6 @@ void CompensationPipeline::clear_calibration() {
   compensator_.clear_calibration();
   calibration_.reset();
   tracker_.reset();
-  heating_rate_.reset();
 }
 
 void CompensationPipeline::set_settings(const PipelineSettings& settings) {
@@ -50,12 +48,7 @@ void CompensationPipeline::on_power(double time_s, bool on) {
 }
 
 ipc::CompensatedScan CompensationPipeline::on_scan(const RawScan& scan) {
-  JunctionEstimate junction = tracker_ ? tracker_->at(scan.time_s) : JunctionEstimate{};
-  if (junction.valid && calibration_ && calibration_->extension &&
-      calibration_->extension->covariate == core::Covariate::HeatingRateCPerMinute) {
-    heating_rate_.add(scan.time_s, junction.junction_c);
-    junction.heating_rate_c_per_min = heating_rate_.rate_c_per_minute();
-  }
+  const JunctionEstimate junction = tracker_ ? tracker_->at(scan.time_s) : JunctionEstimate{};
   ipc::CompensatedScan out = compensator_.compensate(scan, junction, next_sequence_);
   ++next_sequence_;
   return out;

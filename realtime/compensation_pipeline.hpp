@@ -1,15 +1,14 @@
 // The daemon's compensation path as one object, fed events in arrival order: case readings,
 // power changes and scans. tofcompd feeds it live; replay_recording (realtime/recording_replay.hpp)
 // feeds it a recording's rows, so that the two give the same outputs for the same events.
-// A calibration's model extension is applied by the scan compensator; the pipeline keeps the
-// junction's heating rate (realtime/heating_rate.hpp) for an extension whose covariate it is.
+// A calibration's model extension is applied by the scan compensator, with the junction
+// tracker's heating rate for an extension whose covariate it is.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <optional>
 
-#include "realtime/heating_rate.hpp"
 #include "realtime/junction_tracker.hpp"
 #include "realtime/scan_compensator.hpp"
 
@@ -54,7 +53,6 @@ class CompensationPipeline {
   ScanCompensator compensator_;
   std::shared_ptr<const io::Calibration> calibration_;
   std::optional<JunctionTracker> tracker_;
-  HeatingRateEstimator heating_rate_;  // used when the extension's covariate is the rate
   std::optional<std::pair<double, double>> last_reading_;  // time_s, case_c
   std::optional<std::pair<double, bool>> power_;           // time_s of the last change, state
   std::uint64_t next_sequence_ = 0;
