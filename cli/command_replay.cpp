@@ -68,17 +68,22 @@ CommandResult replay(const ReplayOptions& o, const CommonOptions& common) {
   if (out.is_open() && !out.flush()) throw core::Error("cannot write " + o.output);
   CommandResult result;
   const double mean_change = compensated ? sum_abs_change / compensated : 0.0;
+  const io::Calibration* calibration = pipeline.calibration();
+  const bool extended = calibration && calibration->extension;
+  const std::string extension = extended ? io::effect_token(calibration->extension->effect) : "";
   result.json = {{"recording", o.recording},
                  {"config", config.source},
+                 {"extension", extended ? nlohmann::json(extension) : nlohmann::json(nullptr)},
                  {"scans", scans},
                  {"ranges_compensated", compensated},
                  {"mean_abs_correction_mm", mean_change}};
   if (!o.output.empty()) result.json["output"] = o.output;
   result.text = fmt::format(
-      "replayed {} scans of {} through the compensation path of {}\n"
+      "replayed {} scans of {} through the compensation path of {}{}\n"
       "{} ranges compensated, mean |correction| {:.3f} mm\n{}",
-      scans, o.recording, config.source, compensated, mean_change,
-      o.output.empty() ? "" : "wrote " + o.output + "\n");
+      scans, o.recording, config.source,
+      extended ? " (calibration with the " + extension + " extension)" : "", compensated,
+      mean_change, o.output.empty() ? "" : "wrote " + o.output + "\n");
   return result;
 }
 

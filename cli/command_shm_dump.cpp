@@ -122,6 +122,7 @@ std::vector<std::string> flag_names(std::uint16_t flags) {
       {ipc::kBeamTemperatureStale, "temperature_stale"},
       {ipc::kBeamWindowRestarting, "window_restarting"},
       {ipc::kBeamChangeDetected, "change_detected"},
+      {ipc::kBeamOutlier, "outlier"},
   };
   std::vector<std::string> names;
   for (const auto& [bit, name] : kNames) {

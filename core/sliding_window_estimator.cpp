@@ -1,17 +1,32 @@
 #include "core/sliding_window_estimator.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/extended_em.hpp"
 #include "core/validation.hpp"
 
 namespace tofcomp::core {
+namespace {
+
+// A run of outliers restarts the window when the outlier component alone would give one this
+// rarely per range.
+constexpr double kFalseRestartChance = 1e-7;
+
+}  // namespace
 
 SlidingWindowEstimator::SlidingWindowEstimator(MixtureParameters mixture,
                                                SlidingWindowOptions options)
-    : mixture_(std::move(mixture)), options_(options), detector_(options.change) {
-  mixture_.validate();
+    : SlidingWindowEstimator(without_extensions(mixture), options) {}
+
+SlidingWindowEstimator::SlidingWindowEstimator(ExtendedMixture noise, SlidingWindowOptions options)
+    : noise_(std::move(noise)), options_(options), detector_(options.change) {
+  noise_.validate();
+  extended_ = noise_.has_extension();
+  chain_ = noise_.transition.size() > 0;
   if (options_.window < 1 || options_.min_samples < 1 || options_.min_samples > options_.window) {
     std::ostringstream msg;
     msg << "sliding window of " << options_.window << " with min_samples " << options_.min_samples
@@ -23,16 +38,43 @@ SlidingWindowEstimator::SlidingWindowEstimator(MixtureParameters mixture,
                        " must be >= 0");
   }
   ring_.resize(options_.window);
+  ring_bin_ = Eigen::VectorXi::Zero(options_.window);
   ordered_.resize(options_.window);
+  ordered_bin_.resize(options_.window);
   zeros_ = Eigen::VectorXd::Zero(options_.window);
   terms_.resize(static_cast<std::size_t>(options_.window));
-  precision_ = mixture_.variance.cwiseInverse();
-  inverse_std_ = precision_.cwiseSqrt();
-  log_prior_ = mixture_.weight.array().log() - 0.5 * mixture_.variance.array().log();
-  posterior_.resize(mixture_.modes());
+  const int m = noise_.modes.modes();
+  const double log_inlier = std::log1p(-noise_.outlier_weight);
+  log_outlier_ = noise_.outlier_weight > 0.0
+                     ? std::log(noise_.outlier_weight * noise_.outlier_density)
+                     : -INFINITY;
+  for (int b = 0; b < noise_.bins(); ++b) {
+    // Without an extension these are the mixture's own vectors: the same arithmetic as ever.
+    Eigen::VectorXd weight = noise_.modes.weight;
+    Eigen::VectorXd variance = noise_.modes.variance;
+    for (int i = 0; i < m; ++i) {
+      weight[i] = noise_.weight(b, i);
+      variance[i] = noise_.variance(b, i);
+    }
+    precision_.push_back(variance.cwiseInverse());
+    inverse_std_.push_back(precision_.back().cwiseSqrt());
+    log_prior_.push_back(weight.array().log() - 0.5 * variance.array().log());
+    log_weight_.push_back(weight.array().log());
+    log_density_shift_.push_back(
+        (log_inlier - 0.5 * (2.0 * std::numbers::pi * variance.array()).log()).matrix());
+  }
+  if (chain_) slot_prior_.resize(options_.window, m);
+  if (noise_.outlier_weight > 0.0) {
+    // The run of outliers whose chance under the model, ε^n, is below 1e-7.
+    outlier_run_ = static_cast<int>(std::clamp(
+        std::ceil(std::log(kFalseRestartChance) / std::log(noise_.outlier_weight)), 3.0, 10.0));
+  }
+  filtered_ = noise_.modes.weight;
+  posterior_.resize(m);
 }
 
 void SlidingWindowEstimator::reset() {
+  outliers_in_a_row_ = 0;
   next_ = 0;
   count_ = 0;
   has_distance_ = false;
@@ -43,40 +85,82 @@ void SlidingWindowEstimator::reset() {
 }
 
 // The residual e = y − Hθ̂ − d̂ standardized within its most probable mode (the change
-// detector's z, core/change_detector.hpp), from the cached log-priors and precisions.
-double SlidingWindowEstimator::standardized(double residual) const {
+// detector's z, core/change_detector.hpp), from the cached log-priors and precisions of its bin.
+double SlidingWindowEstimator::standardized(double residual, int bin) const {
+  const auto b = static_cast<std::size_t>(bin);
+  const MixtureParameters& modes = noise_.modes;
   Eigen::Index best = 0;
   double best_log = -INFINITY;
-  for (Eigen::Index i = 0; i < mixture_.modes(); ++i) {
-    const double r = residual - mixture_.mean[i];
-    const double log_density = log_prior_[i] - 0.5 * r * r * precision_[i];
+  for (Eigen::Index i = 0; i < modes.modes(); ++i) {
+    const double r = residual - modes.mean[i];
+    const double log_density = log_prior_[b][i] - 0.5 * r * r * precision_[b][i];
     if (log_density > best_log) {
       best_log = log_density;
       best = i;
     }
   }
-  return (residual - mixture_.mean[best]) * inverse_std_[best];
+  return (residual - modes.mean[best]) * inverse_std_[b][best];
 }
 
-void SlidingWindowEstimator::push(double corrected_range) {
+// P(outlier | e) = ε u / (ε u + (1 − ε) Σ_i π_{b,i} N(e; μ_i, σ²_{b,i})).
+double SlidingWindowEstimator::outlier_probability(double residual, int bin) const {
+  const auto b = static_cast<std::size_t>(bin);
+  double largest = log_outlier_;
+  double inlier = -INFINITY;
+  for (Eigen::Index i = 0; i < noise_.modes.modes(); ++i) {
+    const double r = residual - noise_.modes.mean[i];
+    const double log_joint =
+        log_weight_[b][i] + log_density_shift_[b][i] - 0.5 * r * r * precision_[b][i];
+    inlier = std::max(inlier, log_joint);
+  }
+  largest = std::max(largest, inlier);
+  double total = std::exp(log_outlier_ - largest);
+  const double outlier = total;
+  for (Eigen::Index i = 0; i < noise_.modes.modes(); ++i) {
+    const double r = residual - noise_.modes.mean[i];
+    total += std::exp(log_weight_[b][i] + log_density_shift_[b][i] -
+                      0.5 * r * r * precision_[b][i] - largest);
+  }
+  return outlier / total;
+}
+
+// Whether the change detector sees a change at this range. Under the outlier component a range
+// the component takes (P(outlier) > 0.5 at the current d̂) does not enter the CUSUM; a run of
+// outlier_run_ of them is a change (a new scene is, at first, a run of "outliers").
+bool SlidingWindowEstimator::detect_change(double corrected_range, int bin) {
+  const double residual = corrected_range - distance_;
+  if (outlier_run_ > 0 && outlier_probability(residual, bin) > 0.5) {
+    if (++outliers_in_a_row_ < outlier_run_) return false;
+    detector_.reset();
+    return true;
+  }
+  outliers_in_a_row_ = 0;
+  return detector_.update_standardized(standardized(residual, bin));
+}
+
+void SlidingWindowEstimator::push(double corrected_range, int bin) {
   ring_[next_] = corrected_range;
+  ring_bin_[next_] = bin;
   next_ = (next_ + 1) % options_.window;
   count_ = std::min(count_ + 1, options_.window);
 }
 
-WindowEstimate SlidingWindowEstimator::add(double corrected_range) {
+WindowEstimate SlidingWindowEstimator::add(double corrected_range, int bin) {
   require_finite(corrected_range, "bias-corrected range");
+  if (bin < 0 || bin >= noise_.bins()) {
+    throw InvalidInput("sliding window: temperature bin " + std::to_string(bin) +
+                       " outside the noise's " + std::to_string(noise_.bins()) + " bins");
+  }
   WindowEstimate out;
-  if (has_distance_ && count_ >= options_.min_samples &&
-      detector_.update_standardized(standardized(corrected_range - distance_))) {
+  if (has_distance_ && count_ >= options_.min_samples && detect_change(corrected_range, bin)) {
     reset();
     out.change_detected = true;
   }
   if (options_.method == WindowEm::Exact) {
-    push(corrected_range);
+    push(corrected_range, bin);
     fit_exact(out);
   } else {
-    fit_incremental(corrected_range, out);  // pushes: it needs the slot the range leaves
+    fit_incremental(corrected_range, bin, out);  // pushes: it needs the slot the range leaves
   }
   has_distance_ = true;
   out.distance = distance_;
@@ -90,12 +174,19 @@ void SlidingWindowEstimator::fit_exact(WindowEstimate& out) {
   const Eigen::Index first = count_ == options_.window ? next_ : 0;
   for (Eigen::Index i = 0; i < count_; ++i) {
     ordered_[i] = ring_[(first + i) % options_.window];
+    ordered_bin_[i] = ring_bin_[(first + i) % options_.window];
   }
+  const std::optional<double> warm =
+      has_distance_ ? std::optional<double>(distance_) : std::nullopt;
   const EmTestResult fit =
-      test_em(ordered_.head(count_), zeros_.head(count_), mixture_, options_.em,
-              has_distance_ ? std::optional<double>(distance_) : std::nullopt);
+      extended_
+          ? test_extended_em(ordered_.head(count_), zeros_.head(count_), ordered_bin_.head(count_),
+                             noise_, options_.em, warm)
+          : test_em(ordered_.head(count_), zeros_.head(count_), noise_.modes, options_.em, warm);
   distance_ = fit.distance;
   out.posterior = fit.responsibilities.row(count_ - 1).transpose();
+  // The modes' responsibilities leave the outlier's out.
+  if (extended_) out.outlier = std::max(0.0, 1.0 - out.posterior.sum());
   out.posterior.maxCoeff(&out.most_probable_mode);
   out.distance_std = fit.distance_std;
 }
@@ -104,11 +195,11 @@ void SlidingWindowEstimator::fit_exact(WindowEstimate& out) {
 // of Louis' observed information: Σ_i r_i/σ_i² − Var_r[(x − d − μ_i)/σ_i²].
 SlidingWindowEstimator::Terms SlidingWindowEstimator::terms_at(double corrected_range,
                                                                double distance) {
-  const Eigen::Index m = mixture_.modes();
+  const Eigen::Index m = noise_.modes.modes();
   double largest = -INFINITY;
   for (Eigen::Index i = 0; i < m; ++i) {
-    const double r = corrected_range - distance - mixture_.mean[i];
-    posterior_[i] = log_prior_[i] - 0.5 * r * r * precision_[i];
+    const double r = corrected_range - distance - noise_.modes.mean[i];
+    posterior_[i] = log_prior_[0][i] - 0.5 * r * r * precision_[0][i];
     largest = std::max(largest, posterior_[i]);
   }
   // exp(0) = 1 for the largest: M − 1 exponentials per range.
@@ -122,10 +213,51 @@ SlidingWindowEstimator::Terms SlidingWindowEstimator::terms_at(double corrected_
   double score_mean = 0.0;
   double score_square = 0.0;
   for (Eigen::Index i = 0; i < m; ++i) {
-    const double score = (corrected_range - distance - mixture_.mean[i]) * precision_[i];
+    const double score = (corrected_range - distance - noise_.modes.mean[i]) * precision_[0][i];
     t.numerator +=
-        posterior_[i] * (corrected_range - reference_ - mixture_.mean[i]) * precision_[i];
-    t.denominator += posterior_[i] * precision_[i];
+        posterior_[i] * (corrected_range - reference_ - noise_.modes.mean[i]) * precision_[0][i];
+    t.denominator += posterior_[i] * precision_[0][i];
+    score_mean += posterior_[i] * score;
+    score_square += posterior_[i] * score * score;
+  }
+  t.information = t.denominator - (score_square - score_mean * score_mean);
+  return t;
+}
+
+// The extended E-step of one range (core/extended_mixture.hpp): its bin's weights (under a chain
+// the slot's stored forward prior) and variances, and the outlier component, which takes
+// responsibility but has no score in d and so adds nothing to the sums.
+SlidingWindowEstimator::Terms SlidingWindowEstimator::extended_terms_at(double corrected_range,
+                                                                        double distance,
+                                                                        std::size_t slot) {
+  const Eigen::Index m = noise_.modes.modes();
+  const auto b = static_cast<std::size_t>(ring_bin_[static_cast<Eigen::Index>(slot)]);
+  const Eigen::VectorXd& mean = noise_.modes.mean;
+  const Eigen::VectorXd& precision = precision_[b];
+  double largest = log_outlier_;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const double r = corrected_range - distance - mean[i];
+    const double log_prior =
+        chain_ ? std::log(slot_prior_(static_cast<Eigen::Index>(slot), i)) : log_weight_[b][i];
+    posterior_[i] = log_prior + log_density_shift_[b][i] - 0.5 * r * r * precision[i];
+    largest = std::max(largest, posterior_[i]);
+  }
+  double total = 0.0;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    posterior_[i] = std::exp(posterior_[i] - largest);
+    total += posterior_[i];
+  }
+  outlier_ = std::exp(log_outlier_ - largest);  // 0 without the component
+  total += outlier_;
+  posterior_ /= total;
+  outlier_ /= total;
+  Terms t;
+  double score_mean = 0.0;
+  double score_square = 0.0;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const double score = (corrected_range - distance - mean[i]) * precision[i];
+    t.numerator += posterior_[i] * (corrected_range - reference_ - mean[i]) * precision[i];
+    t.denominator += posterior_[i] * precision[i];
     score_mean += posterior_[i] * score;
     score_square += posterior_[i] * score * score;
   }
@@ -144,25 +276,39 @@ void SlidingWindowEstimator::resum() {
   adds_since_resum_ = 0;
 }
 
-void SlidingWindowEstimator::fit_incremental(double corrected_range, WindowEstimate& out) {
+void SlidingWindowEstimator::fit_incremental(double corrected_range, int bin, WindowEstimate& out) {
   const auto add_terms = [this](const Terms& t, double sign) {
     sums_.numerator += sign * t.numerator;
     sums_.denominator += sign * t.denominator;
     sums_.information += sign * t.information;
   };
-  const auto m_step = [this] { distance_ = reference_ + sums_.numerator / sums_.denominator; };
+  const auto m_step = [this] {
+    // Under the outlier component a window of outliers only has no information: d̂ stays.
+    if (!extended_ || sums_.denominator > 0.0) {
+      distance_ = reference_ + sums_.numerator / sums_.denominator;
+    }
+  };
+  const auto e_step = [this](double x, std::size_t s) {
+    return extended_ ? extended_terms_at(x, distance_, s) : terms_at(x, distance_);
+  };
   if (count_ == 0) {
     // A (re)start: the sums are relative to the first range; d̂ starts as em_test's does.
     reference_ = corrected_range;
-    distance_ = corrected_range - mixture_.mean_offset();
+    distance_ = corrected_range - noise_.modes.mean_offset();
     sums_ = {};
     adds_since_resum_ = 0;
     refresh_next_ = 0;
+    filtered_ = noise_.modes.weight;  // a chain starts from its initial law
   }
   const std::size_t slot = static_cast<std::size_t>(next_);
   if (count_ == options_.window) add_terms(terms_[slot], -1.0);  // the range leaving
-  push(corrected_range);
-  terms_[slot] = terms_at(corrected_range, distance_);
+  if (chain_) {
+    // The forward prediction P(mode_k | the ranges before it) = α_{k−1}ᵀA, kept for refreshes.
+    slot_prior_.row(static_cast<Eigen::Index>(slot)) =
+        count_ == 0 ? filtered_.transpose() : (filtered_.transpose() * noise_.transition).eval();
+  }
+  push(corrected_range, bin);
+  terms_[slot] = e_step(corrected_range, slot);
   add_terms(terms_[slot], 1.0);
   m_step();
   // Redo the E-step of the oldest-refreshed ranges at the new d̂ (the newest was just done).
@@ -173,16 +319,20 @@ void SlidingWindowEstimator::fit_incremental(double corrected_range, WindowEstim
     const Eigen::Index oldest = count_ == options_.window ? next_ : 0;
     const auto s = static_cast<std::size_t>((oldest + refresh_next_) % options_.window);
     add_terms(terms_[s], -1.0);
-    terms_[s] = terms_at(ring_[static_cast<Eigen::Index>(s)], distance_);
+    terms_[s] = e_step(ring_[static_cast<Eigen::Index>(s)], s);
     add_terms(terms_[s], 1.0);
     ++refresh_next_;
   }
   if (++adds_since_resum_ >= options_.window) resum();
   m_step();
   // This range's posterior at the final d̂.
-  terms_at(corrected_range, distance_);
+  e_step(corrected_range, slot);
   out.posterior = posterior_;
   out.posterior.maxCoeff(&out.most_probable_mode);
+  if (extended_) {
+    out.outlier = outlier_;
+    if (chain_) filtered_ = posterior_;  // α_k: the chain has no outlier component
+  }
   const double information = sums_.information > 0.0 ? sums_.information : sums_.denominator;
   out.distance_std = 1.0 / std::sqrt(information);
 }

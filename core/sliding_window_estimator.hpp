@@ -17,6 +17,22 @@
 //   kept relative to the window's first range (no cancellation against a 3 m offset) and
 //   re-added from the stored terms every W ranges, so rounding cannot accumulate.
 // Memory O(W) either way.
+//
+// Under the extended noise of core/extended_mixture.hpp (a calibration's model extension,
+// core/model_extension.hpp) each range carries its temperature bin b(k) (the junction's bin at
+// its scan) and both methods test d as core/extended_em.hpp does:
+// - Exact: test_extended_em on the window, the bins with it.
+// - Incremental: a range's terms use its bin's weights and variances; the outlier component
+//   takes responsibility but no weight, w_ki = r_ki / σ²_{b(k),i}. Under a Markov chain over
+//   the modes a new range's prior is the forward (filtered) prediction α_{k−1}ᵀA from the
+//   filtered posterior of the range before it (the window's first range: the chain's initial
+//   law π), stored per slot so that a refresh reuses it. Its responsibilities are the filtered
+//   P(mode_k | ranges up to k), not the batch smoother's P(mode_k | whole window): an
+//   approximation (tests/core/sliding_window_test.cpp bounds its effect on d̂).
+// With an outlier component a range it takes (P(outlier) > 0.5 at the current d̂) does not
+// enter the change detector's CUSUM; a run of n of them restarts the window, n the smallest
+// with ε^n < 1e-7 (from 3 to 10): a new scene first looks like a run of outliers. Without an
+// extension every result is the plain mixture's, bit for bit.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,6 +40,7 @@
 
 #include "core/change_detector.hpp"
 #include "core/em_test.hpp"
+#include "core/extended_mixture.hpp"
 #include "core/gaussian_mixture.hpp"
 
 namespace tofcomp::core {
@@ -47,17 +64,24 @@ struct WindowEstimate {
   bool restarting = false;       // fewer than min_samples since the last (re)start
   bool change_detected = false;  // this range started a new window
   int most_probable_mode = 0;    // of this range (0-based)
+  double outlier = 0.0;          // P(this range is an outlier | d̂): 0 without the component
 };
 
 class SlidingWindowEstimator {
  public:
+  // The paper's mixture: the same as without_extensions(mixture).
   SlidingWindowEstimator(MixtureParameters mixture, SlidingWindowOptions options = {});
+  // The extended noise. Throws InvalidInput when it is invalid.
+  SlidingWindowEstimator(ExtendedMixture noise, SlidingWindowOptions options = {});
 
-  // Adds one bias-corrected range y − H θ̂ (finite) and returns the window's estimate.
-  WindowEstimate add(double corrected_range);
+  // Adds one bias-corrected range y − H θ̂ (finite) of temperature bin `bin` (0..B−1 of the
+  // noise; 0 without bins) and returns the window's estimate. Throws InvalidInput on a
+  // non-finite range or a bin out of range.
+  WindowEstimate add(double corrected_range, int bin = 0);
   void reset();
   const SlidingWindowOptions& options() const { return options_; }
-  const MixtureParameters& mixture() const { return mixture_; }
+  const MixtureParameters& mixture() const { return noise_.modes; }
+  const ExtendedMixture& noise() const { return noise_; }
 
  private:
   // One range's terms of the incremental sums, evaluated at the d̂ of its last E-step.
@@ -66,22 +90,31 @@ class SlidingWindowEstimator {
     double denominator = 0.0;  // Σ_i r_i / σ_i²: complete-data information
     double information = 0.0;  // observed information (Louis): denominator − Var_r(score)
   };
-  void push(double corrected_range);
+  void push(double corrected_range, int bin);
   void fit_exact(WindowEstimate& out);
-  void fit_incremental(double corrected_range, WindowEstimate& out);
+  void fit_incremental(double corrected_range, int bin, WindowEstimate& out);
   // E-step of one range at d: fills posterior_ and returns its terms.
   Terms terms_at(double corrected_range, double distance);
+  // The same under the extended noise for the range in ring slot `slot` (its bin and, under a
+  // chain, its stored prior); also fills outlier_.
+  Terms extended_terms_at(double corrected_range, double distance, std::size_t slot);
   void resum();
-  double standardized(double residual) const;
+  double standardized(double residual, int bin) const;
+  double outlier_probability(double residual, int bin) const;
+  bool detect_change(double corrected_range, int bin);
 
-  MixtureParameters mixture_;
+  ExtendedMixture noise_;
+  bool extended_ = false;  // noise_.has_extension()
+  bool chain_ = false;     // a Markov chain over the modes
   SlidingWindowOptions options_;
   ChangeDetector detector_;
-  Eigen::VectorXd ring_;   // capacity W
-  Eigen::Index next_ = 0;  // where the next range goes
+  Eigen::VectorXd ring_;      // capacity W
+  Eigen::VectorXi ring_bin_;  // the bin of each range in ring_
+  Eigen::Index next_ = 0;     // where the next range goes
   Eigen::Index count_ = 0;
   Eigen::VectorXd ordered_;  // scratch: the window oldest first
-  Eigen::VectorXd zeros_;    // scratch: the bias of already corrected ranges
+  Eigen::VectorXi ordered_bin_;
+  Eigen::VectorXd zeros_;  // scratch: the bias of already corrected ranges
   double distance_ = 0.0;
   bool has_distance_ = false;
   // Incremental only.
@@ -90,10 +123,20 @@ class SlidingWindowEstimator {
   Eigen::Index adds_since_resum_ = 0;
   double reference_ = 0.0;  // x of the window's first range
   Terms sums_;
-  Eigen::VectorXd log_prior_;    // log π_i − ½ log σ_i²
-  Eigen::VectorXd precision_;    // 1/σ_i²
-  Eigen::VectorXd inverse_std_;  // 1/σ_i
-  Eigen::VectorXd posterior_;    // scratch
+  // Per temperature bin b (one without bins):
+  std::vector<Eigen::VectorXd> log_prior_;    // log π_{b,i} − ½ log σ_{b,i}²
+  std::vector<Eigen::VectorXd> precision_;    // 1/σ_{b,i}²
+  std::vector<Eigen::VectorXd> inverse_std_;  // 1/σ_{b,i}
+  // Extended, incremental only:
+  std::vector<Eigen::VectorXd> log_weight_;         // log π_{b,i}
+  std::vector<Eigen::VectorXd> log_density_shift_;  // log(1 − ε) − ½ log(2π σ_{b,i}²)
+  double log_outlier_ = 0.0;                        // log(ε u); −∞ without the component
+  Eigen::MatrixXd slot_prior_;  // W × M: under a chain, each slot's prior α_{k−1}ᵀA
+  Eigen::VectorXd filtered_;    // under a chain: the newest range's filtered posterior
+  double outlier_ = 0.0;        // scratch: the outlier responsibility of the last E-step
+  int outlier_run_ = 0;         // outliers in a row that make a change; 0: no component
+  int outliers_in_a_row_ = 0;
+  Eigen::VectorXd posterior_;  // scratch
 };
 
 }  // namespace tofcomp::core

@@ -93,7 +93,11 @@ void Daemon::use_calibration(std::shared_ptr<const io::Calibration> calibration,
   ++calibration_id_;
   ++counters_.calibrations_swapped;
   calibration_source_ = source;
-  spdlog::info("calibration {} in use, from {}", calibration_id_, source);
+  const io::Calibration* in_use = pipeline_.calibration();
+  spdlog::info("calibration {} in use, from {}{}", calibration_id_, source,
+               in_use && in_use->extension
+                   ? ", with the " + io::effect_token(in_use->extension->effect) + " extension"
+                   : std::string());
 }
 
 void Daemon::start_parts() {

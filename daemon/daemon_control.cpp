@@ -24,6 +24,12 @@ nlohmann::json number_or_null(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
+// The effect the calibration's model extension models (its extension.effect), or null.
+nlohmann::json extension_in_use(const io::Calibration* calibration) {
+  if (!calibration || !calibration->extension) return nullptr;
+  return io::effect_token(calibration->extension->effect);
+}
+
 }  // namespace
 
 nlohmann::json Daemon::status() {
@@ -39,7 +45,9 @@ nlohmann::json Daemon::status() {
                           : "recorded case readings (" + config_.emulator.recording.string() + ")"},
       {"state", sensor_state_}};
   s["power"] = power_on_ ? nlohmann::json(*power_on_ ? "on" : "off") : nlohmann::json("unknown");
-  s["calibration"] = {{"id", calibration_id_}, {"source", calibration_source_}};
+  s["calibration"] = {{"id", calibration_id_},
+                      {"source", calibration_source_},
+                      {"extension", extension_in_use(pipeline_.calibration())}};
   s["recalibration"] = recalibration_state_;
   if (run_) s["calibration_run"] = calibration_run_status();
   s["last_reload"] = last_reload_;
@@ -79,6 +87,8 @@ nlohmann::json Daemon::stats() {
                {"garbage_bytes", d.decoder.garbage_bytes},
                {"truncated", d.decoder.truncated}};
   s["shm"] = {{"name", ring_->name()}, {"published", ring_->published()}};
+  s["calibration"] = {{"id", calibration_id_},
+                      {"extension", extension_in_use(pipeline_.calibration())}};
   if (recorder_) {
     const auto& r = recorder_->counters();
     s["recording"] = {{"rows", r.rows}, {"files", r.files}, {"scans", r.scans}};

@@ -8,11 +8,14 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
+#include <string>
 
 #include "core/error.hpp"
 #include "daemon/config/daemon_config_yaml.hpp"
 #include "daemon/config/embedded_default_config.hpp"
 #include "daemon/daemon.hpp"
+#include "daemon/pipeline_setup.hpp"
 #include "daemon/service/logging.hpp"
 
 int main(int argc, char** argv) {
@@ -44,7 +47,20 @@ int main(int argc, char** argv) {
     const config::DaemonConfig cfg = config_file.empty() ? config::embedded_default_config()
                                                          : config::load_daemon_config(config_file);
     if (check_only) {
-      std::printf("%s: valid\n", cfg.source.c_str());
+      // The calibration it names, when it exists, as the pipeline would take it (an extension
+      // included): a file the daemon would refuse fails the check.
+      std::string calibration;
+      if (!cfg.calibration.file.empty() && std::filesystem::exists(cfg.calibration.file)) {
+        auto loaded = read_configured_calibration(cfg);
+        tofcomp::realtime::CompensationPipeline pipeline(pipeline_settings(cfg));
+        pipeline.set_calibration(loaded, 1);
+        calibration = "; calibration " + cfg.calibration.file.string() +
+                      (loaded->extension
+                           ? " with the " + tofcomp::io::effect_token(loaded->extension->effect) +
+                                 " extension"
+                           : std::string());
+      }
+      std::printf("%s: valid%s\n", cfg.source.c_str(), calibration.c_str());
       return 0;
     }
     service::configure_logging(cfg.log.target, cfg.log.level);

@@ -92,15 +92,6 @@ Eigen::VectorXd read_vector(const YamlMap& parent, std::string_view key) {
   return v;
 }
 
-// The token of an effect in the file: its name with '_' for spaces and hyphens.
-std::string effect_token(core::EffectKind kind) {
-  std::string token = core::effect_name(kind);
-  for (char& ch : token) {
-    if (ch == ' ' || ch == '-') ch = '_';
-  }
-  return token;
-}
-
 constexpr core::EffectKind kEffects[] = {core::EffectKind::ModePersistence,
                                          core::EffectKind::TemperatureDependentWeights,
                                          core::EffectKind::TemperatureDependentSpread,
@@ -210,6 +201,14 @@ core::ModelExtension read_extension(const YamlMap& top, const core::MixtureParam
 }
 
 }  // namespace
+
+std::string effect_token(core::EffectKind kind) {
+  std::string token = core::effect_name(kind);
+  for (char& ch : token) {
+    if (ch == ' ' || ch == '-') ch = '_';
+  }
+  return token;
+}
 
 std::string calibration_to_yaml(const Calibration& c) {
   c.model.validate();

@@ -35,6 +35,10 @@ struct Calibration {
   Provenance provenance;
 };
 
+// The token of an effect in the file's extension.effect (and the daemon's status): its name
+// with '_' for spaces and hyphens, e.g. outliers, time_drift, mode_persistence.
+std::string effect_token(core::EffectKind kind);
+
 // Writes atomically (temporary file, fsync, rename, fsync of the directory): a crash at any
 // moment leaves the old file or the new one.
 void write_calibration_file(const std::string& file, const Calibration& calibration);

@@ -22,6 +22,7 @@ enum BeamFlag : std::uint16_t {
   kBeamTemperatureStale = 1u << 2,  // no fresh case reading: the junction estimate is predicted
   kBeamWindowRestarting = 1u << 3,  // the window has fewer than its minimum samples
   kBeamChangeDetected = 1u << 4,    // this range restarted the window (the distance moved)
+  kBeamOutlier = 1u << 5,  // the calibration's outlier component takes this range (P > 0.5)
 };
 
 struct BeamValue {

@@ -1,6 +1,8 @@
 // The daemon's compensation path as one object, fed events in arrival order: case readings,
 // power changes and scans. tofcompd feeds it live; replay_recording (realtime/recording_replay.hpp)
 // feeds it a recording's rows, so that the two give the same outputs for the same events.
+// A calibration's model extension is applied by the scan compensator, with the junction
+// tracker's heating rate for an extension whose covariate it is.
 #pragma once
 
 #include <cstdint>

@@ -4,11 +4,20 @@
 // the scan's time (the filter itself is not moved, so a reading that arrives later is used at
 // its own time). The scanner's power (the laser's heat input u of Eq. 4) is held between
 // changes. Times are seconds on one monotonic clock.
+//
+// The junction's heating rate dt^j/dt, the covariate of the heating-hysteresis extension
+// (core/model_extension.hpp), is Eq. 3's own at the predicted state: causal, instantaneous. The
+// offline covariate is instead the least-squares slope of the RTS-smoothed junction over ±30 s
+// (core::covariate_values), which looks ahead and averages the fast junction transient after a
+// power change over 60 s (docs/daemon.md). A causal least-squares slope over the past 60 s of
+// the filtered junction lags it by 30 s and was worse on the twin (tests/cli/
+// replay_extension_test.cpp: d̂ error 0.150 mm against 0.067 mm, the paper's model 0.110 mm).
 #pragma once
 
 #include <optional>
 
 #include "core/kalman.hpp"
+#include "core/thermal_model.hpp"
 #include "io/calibration_file.hpp"
 
 namespace tofcomp::realtime {
@@ -25,6 +34,9 @@ struct JunctionEstimate {
   double junction_std_c = 0.0;
   double case_c = 0.0;  // the last reading accepted
   bool stale = false;   // no reading within stale_after_s of the scan
+  // dt^j/dt in °C/min: Eq. 3's second line at the predicted state, power and ambient,
+  // 60 · (u P / C1 + (t^c − t^j) / (R1 C1)) (the heating-hysteresis covariate).
+  double heating_rate_c_per_min = 0.0;
 };
 
 class JunctionTracker {
@@ -44,6 +56,7 @@ class JunctionTracker {
   void advance_to(double time_s);
 
   io::Calibration calibration_;
+  core::ContinuousThermalModel continuous_;
   JunctionTrackerSettings settings_;
   std::optional<core::ThermalKalmanFilter> filter_;
   double filter_time_s_ = 0.0;

@@ -11,7 +11,33 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+int junction_bin(const core::ExtendedMixture& noise, double junction_c) {
+  int b = 0;
+  while (b < noise.bin_edges_c.size() && junction_c >= noise.bin_edges_c[b]) ++b;
+  return b;
+}
+
 }  // namespace
+
+core::ExtendedMixture noise_of(const io::Calibration& calibration) {
+  return calibration.extension ? calibration.extension->noise
+                               : core::without_extensions(calibration.model.noise);
+}
+
+double covariate_bias(const io::Calibration& calibration, double time_s,
+                      const JunctionEstimate& junction) {
+  if (!calibration.extension) return 0.0;
+  const core::ModelExtension& x = *calibration.extension;
+  switch (x.covariate) {
+    case core::Covariate::None:
+      return 0.0;
+    case core::Covariate::TimeHours:
+      return x.covariate_mm * (time_s / 3600.0);
+    case core::Covariate::HeatingRateCPerMinute:
+      return x.covariate_mm * junction.heating_rate_c_per_min;
+  }
+  return 0.0;
+}
 
 ScanCompensator::ScanCompensator(core::SlidingWindowOptions window) : window_options_(window) {}
 
@@ -24,8 +50,19 @@ void ScanCompensator::set_calibration(std::shared_ptr<const io::Calibration> cal
                              " lasing modes; the published record carries at most " +
                              std::to_string(ipc::kMaxModes));
   }
-  // Checks the window options against these modes before anything changes.
-  core::SlidingWindowEstimator check(calibration->model.noise, window_options_);
+  if (calibration->extension) {
+    calibration->extension->validate();
+    if (calibration->extension->noise.modes.modes() > ipc::kMaxModes) {
+      throw core::InvalidInput("calibration extension has " +
+                               std::to_string(calibration->extension->noise.modes.modes()) +
+                               " lasing modes; the published record carries at most " +
+                               std::to_string(ipc::kMaxModes));
+    }
+  }
+  core::ExtendedMixture noise = noise_of(*calibration);
+  // Checks the window options against this noise before anything changes.
+  core::SlidingWindowEstimator check(noise, window_options_);
+  noise_ = std::move(noise);
   calibration_ = std::move(calibration);
   calibration_id_ = id;
   windows_.clear();
@@ -38,7 +75,7 @@ void ScanCompensator::clear_calibration() {
 }
 
 void ScanCompensator::set_window_options(const core::SlidingWindowOptions& window) {
-  if (calibration_) core::SlidingWindowEstimator check(calibration_->model.noise, window);
+  if (calibration_) core::SlidingWindowEstimator check(noise_, window);
   window_options_ = window;
   windows_.clear();
 }
@@ -47,7 +84,7 @@ void ScanCompensator::rebuild_windows(std::size_t beams) {
   windows_.clear();
   windows_.reserve(beams);
   for (std::size_t b = 0; b < beams; ++b) {
-    windows_.emplace_back(calibration_->model.noise, window_options_);
+    windows_.emplace_back(noise_, window_options_);
   }
 }
 
@@ -78,9 +115,13 @@ ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
   if (!calibrated) scan_flags |= ipc::kBeamUncalibrated;
   if (!junction.valid || junction.stale) scan_flags |= ipc::kBeamTemperatureStale;
   if (compensating && windows_.size() != beams) rebuild_windows(beams);
-  // Eq. 8: the bias H(t̂^j)θ̂ is one value for the whole scan.
-  const double bias = compensating ? calibration_->model.bias_at(junction.junction_c) : 0.0;
-  const core::MixtureParameters* modes = calibrated ? &calibration_->model.noise : nullptr;
+  // Eq. 8: the bias H(t̂^j)θ̂ (and an extension's γ·c) is one value for the whole scan, and so
+  // is the junction's temperature bin.
+  const double bias = compensating ? calibration_->model.bias_at(junction.junction_c) +
+                                         covariate_bias(*calibration_, scan.time_s, junction)
+                                   : 0.0;
+  const int bin = compensating ? junction_bin(noise_, junction.junction_c) : 0;
+  const core::MixtureParameters* modes = calibrated ? &noise_.modes : nullptr;
 
   for (std::size_t b = 0; b < beams; ++b) {
     ipc::BeamValue& v = out.beams[b];
@@ -102,7 +143,7 @@ ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
     v.raw_mm = y;
     if (!compensating) continue;
     const double corrected = y - bias;
-    const core::WindowEstimate e = windows_[b].add(corrected);
+    const core::WindowEstimate e = windows_[b].add(corrected, bin);
     v.most_probable_mode = static_cast<std::uint8_t>(e.most_probable_mode);
     for (int i = 0; i < modes->modes(); ++i) {
       v.mode_posterior[static_cast<std::size_t>(i)] = static_cast<float>(e.posterior[i]);
@@ -115,6 +156,7 @@ ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
       v.window_std_mm = e.distance_std;
     }
     if (e.change_detected) v.flags |= ipc::kBeamChangeDetected;
+    if (e.outlier > 0.5) v.flags |= ipc::kBeamOutlier;
   }
   return out;
 }

@@ -5,6 +5,12 @@
 // y − H(t̂^j)θ̂ − μ_î. Ranges with no echo are published as such and do not enter the window.
 // Without a calibration or a junction temperature the raw ranges are published with the flag
 // that says why, and nothing else (never a NaN where a number is expected: the flag marks it).
+//
+// A calibration with a model extension (core/model_extension.hpp) is applied as offline
+// (cli/pipeline.cpp): the scan's bias gains γ·c, c the hours since the pipeline's clock origin
+// (RawScan::time_s / 3600) or the junction's heating rate (JunctionEstimate), and every window
+// tests d under the extended noise, each range with the temperature bin of the scan's junction
+// estimate. A range the outlier component takes (P > 0.5) is flagged kBeamOutlier.
 #pragma once
 
 #include <cstdint>
@@ -18,6 +24,13 @@
 #include "realtime/raw_scan.hpp"
 
 namespace tofcomp::realtime {
+
+// The calibration's noise: its extension's, else the paper's mixture without extensions.
+core::ExtendedMixture noise_of(const io::Calibration& calibration);
+// γ·c of the calibration's extension for a scan at time_s (the pipeline's clock) with this
+// junction estimate; 0 without an extension or a covariate.
+double covariate_bias(const io::Calibration& calibration, double time_s,
+                      const JunctionEstimate& junction);
 
 class ScanCompensator {
  public:
@@ -43,6 +56,7 @@ class ScanCompensator {
   core::SlidingWindowOptions window_options_;
   std::shared_ptr<const io::Calibration> calibration_;
   std::uint32_t calibration_id_ = 0;
+  core::ExtendedMixture noise_;                        // the calibration's (extended) noise
   std::vector<core::SlidingWindowEstimator> windows_;  // one per beam, when calibrated
 };
 

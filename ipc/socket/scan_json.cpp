@@ -13,8 +13,9 @@ namespace tofcomp::ipc::socket {
 
 namespace {
 
-constexpr std::array<std::string_view, 5> kFlagNames{"no_echo", "uncalibrated", "temperature_stale",
-                                                     "window_restarting", "change_detected"};
+constexpr std::array<std::string_view, 6> kFlagNames{"no_echo",           "uncalibrated",
+                                                     "temperature_stale", "window_restarting",
+                                                     "change_detected",   "outlier"};
 
 // Appends JSON text to a string; keys and names are the encoder's own (no escaping needed).
 class JsonText {

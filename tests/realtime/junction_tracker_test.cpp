@@ -63,5 +63,15 @@ TEST(JunctionTracker, RefusesNonFiniteInput) {
   EXPECT_THROW(JunctionTracker(testing::round_calibration(), bad), core::InvalidInput);
 }
 
+// The heating rate is Eq. 3's at the estimated state: 0 at rest; when the laser goes off with
+// the junction 6 K above the case it is (t^c − t^j) / (R1 C1) = −6 K / 10 s = −36 °C/min.
+TEST(JunctionTracker, HeatingRateIsTheThermalModels) {
+  JunctionTracker tracker(testing::round_calibration());
+  for (int s = 0; s <= 640; ++s) tracker.add_case_reading(s, 34.0);
+  EXPECT_NEAR(tracker.at(640.5).heating_rate_c_per_min, 0.0, 0.3);
+  tracker.set_power(640.5, false);
+  EXPECT_NEAR(tracker.at(640.5).heating_rate_c_per_min, -36.0, 0.5);
+}
+
 }  // namespace
 }  // namespace tofcomp::realtime

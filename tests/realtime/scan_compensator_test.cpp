@@ -144,5 +144,76 @@ TEST(ScanCompensator, RefusesWhatItCannotUse) {
   EXPECT_THROW(compensator.compensate(scan, junction_at(26.0), 0), core::InvalidInput);
 }
 
+// A calibration's extension, by hand: the covariate's bias γ·c is removed with the paper's
+// bias (time drift: hours of the pipeline's clock; heating hysteresis: the junction estimate's
+// rate), and a range the outlier component takes is flagged without moving the window.
+TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
+  const auto with_extension = [](core::EffectKind effect, core::Covariate covariate, double gamma) {
+    auto c = std::make_shared<io::Calibration>(testing::round_calibration());
+    core::ModelExtension x;
+    x.effect = effect;
+    x.covariate = covariate;
+    x.covariate_mm = gamma;
+    x.noise = core::without_extensions(c->model.noise);
+    c->extension = x;
+    return c;
+  };
+  // 26 °C: the paper's bias is 13 mm. The first range of a window is given mode 0 (its residual
+  // at d̂ = x − Σπμ is Σπμ = 0.025 mm, nearer μ_0 = −2 than μ_1 = 2.5), so it is compensated
+  // by y − bias − μ_0.
+  RawScan scan;
+  scan.no_echo = {0};
+  {
+    ScanCompensator compensator(incremental());
+    compensator.set_calibration(
+        with_extension(core::EffectKind::TimeDrift, core::Covariate::TimeHours, 4.0), 1);
+    scan.time_s = 9000.0;                    // 2.5 h: γ·c = 10 mm
+    scan.ranges_mm = {3000.0 + 23.0 - 2.0};  // d + bias + μ_0
+    const ipc::CompensatedScan out = compensator.compensate(scan, junction_at(26.0), 0);
+    EXPECT_EQ(out.beams[0].most_probable_mode, 0);
+    EXPECT_DOUBLE_EQ(out.beams[0].compensated_mm, 3000.0);
+  }
+  {
+    ScanCompensator compensator(incremental());
+    compensator.set_calibration(with_extension(core::EffectKind::HeatingHysteresis,
+                                               core::Covariate::HeatingRateCPerMinute, 2.0),
+                                1);
+    JunctionEstimate heating = junction_at(26.0);
+    heating.heating_rate_c_per_min = 1.5;  // γ·c = 3 mm
+    scan.ranges_mm = {3000.0 + 16.0 - 2.0};
+    const ipc::CompensatedScan out = compensator.compensate(scan, heating, 0);
+    EXPECT_DOUBLE_EQ(out.beams[0].compensated_mm, 3000.0);
+  }
+  {
+    auto c = with_extension(core::EffectKind::Outliers, core::Covariate::None, 0.0);
+    c->extension->noise.outlier_weight = 0.02;
+    c->extension->noise.outlier_density = 1.0 / 200.0;
+    ScanCompensator compensator(incremental());
+    compensator.set_calibration(c, 1);
+    const auto wall = testing::draw_measurements(
+        Eigen::VectorXd::Constant(300, 26.0), 3000.0, [](double t) { return 0.5 * t; },
+        c->model.noise, 5);
+    ipc::CompensatedScan out;
+    int flagged = 0;
+    for (Eigen::Index k = 0; k < 300; ++k) {
+      scan.ranges_mm = {wall.range[k]};
+      out = compensator.compensate(scan, junction_at(26.0), static_cast<std::uint64_t>(k));
+      flagged += (out.beams[0].flags & ipc::kBeamOutlier) != 0;
+    }
+    EXPECT_EQ(flagged, 0);
+    const double before = out.beams[0].window_mm;
+    scan.ranges_mm = {3013.0 + 80.0};
+    out = compensator.compensate(scan, junction_at(26.0), 300);
+    EXPECT_EQ(out.beams[0].flags, ipc::kBeamOutlier);
+    EXPECT_NEAR(out.beams[0].window_mm, before, 0.05);
+  }
+  // An invalid extension is refused and the old calibration stays.
+  ScanCompensator compensator(incremental());
+  auto bad = with_extension(core::EffectKind::ModePersistence, core::Covariate::None, 0.0);
+  bad->extension->noise.transition = Eigen::MatrixXd::Constant(2, 2, 0.7);
+  EXPECT_THROW(compensator.set_calibration(bad, 1), core::InvalidInput);
+  EXPECT_EQ(compensator.calibration(), nullptr);
+}
+
 }  // namespace
 }  // namespace tofcomp::realtime

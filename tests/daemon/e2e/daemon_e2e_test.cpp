@@ -266,5 +266,100 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
   EXPECT_EQ(daemon.terminate(), 0) << daemon.log();
 }
 
+// A calibration with a model extension (here the outlier component, written by hand onto the
+// shipped calibration), loaded from the configuration: the daemon's status and stats name the
+// extension, the emulated LMS 200 playing the outlier scenario gets its outliers flagged, its
+// recording replayed offline gives the very numbers it published, and a reload to the plain
+// calibration says so (extension null).
+TEST(DaemonEndToEnd, CompensatesWithACalibrationsExtension) {
+  TemporaryDirectory dir;
+  const std::string root = TOFCOMP_SOURCE_ROOT;
+  io::Calibration extended = io::read_calibration_file(root + "/config/calibration.yaml");
+  core::ModelExtension extension;
+  extension.effect = core::EffectKind::Outliers;
+  extension.noise = core::without_extensions(extended.model.noise);
+  extension.noise.outlier_weight = 0.02;
+  extension.noise.outlier_density = 1.0 / 200.0;
+  extended.extension = extension;
+  io::write_calibration_file((dir.path() / "extended.yaml").string(), extended);
+  const std::string shm = "/tofcomp-e2e-ext-" + std::to_string(::getpid());
+  const auto config = dir.path() / "tofcompd.yaml";
+  write_file(config, config_text(dir.path(), shm, "extended.yaml", "effect-outliers"));
+  DaemonProcess daemon(config, dir.path() / "tofcompd.log");
+  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+
+  ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
+  ASSERT_TRUE(
+      subscriber.request({{"op", "subscribe"}, {"beams", {150, 210}}}, 10s).value("ok", false));
+  std::map<std::uint64_t, nlohmann::json> received;
+  std::size_t outliers = 0;
+  std::size_t compensated = 0;
+  while (received.size() < 300) {
+    std::optional<nlohmann::json> message;
+    try {
+      message = subscriber.read_message(30s);
+    } catch (const std::exception& e) {
+      FAIL() << e.what() << "\n" << daemon.log();
+    }
+    ASSERT_TRUE(message.has_value()) << "no scan within 30 s\n" << daemon.log();
+    const nlohmann::json& scan = scan_of(*message);
+    received[scan.at("sequence").get<std::uint64_t>()] = scan;
+    for (const auto& b : scan["beams"]) {
+      outliers += (b["flags"].get<int>() & ipc::kBeamOutlier) != 0;
+      compensated += !b["compensated_mm"].is_null();
+    }
+  }
+  ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
+  const nlohmann::json status = client.request({{"op", "status"}}, 10s);
+  ASSERT_TRUE(status.value("ok", false)) << status.dump();
+  EXPECT_EQ(status["status"]["calibration"]["extension"], "outliers") << status.dump();
+  const nlohmann::json stats = client.request({{"op", "stats"}}, 10s);
+  EXPECT_EQ(stats["stats"]["calibration"]["extension"], "outliers") << stats.dump();
+  // The scenario's 2 % outliers within ±100 mm: flagged, and not many more.
+  std::printf("%zu of %zu compensated ranges flagged outliers\n", outliers, compensated);
+  EXPECT_GT(compensated, 200u * 55u);
+  EXPECT_GT(outliers, 0u);
+  EXPECT_LT(outliers, compensated / 20);
+
+  // A reload to the plain calibration: the status says there is no extension.
+  write_file(config,
+             config_text(dir.path(), shm, root + "/config/calibration.yaml", "effect-outliers"));
+  const nlohmann::json reloaded = client.request({{"op", "reload"}}, 10s);
+  ASSERT_TRUE(reloaded.value("ok", false)) << reloaded.dump();
+  const nlohmann::json plain = client.request({{"op", "status"}}, 10s);
+  EXPECT_EQ(plain["status"]["calibration"]["id"], 2);
+  EXPECT_TRUE(plain["status"]["calibration"]["extension"].is_null()) << plain.dump();
+  ASSERT_EQ(daemon.terminate(), 0) << daemon.log();
+  EXPECT_NE(daemon.log().find("with the outliers extension"), std::string::npos) << daemon.log();
+
+  // The recording replayed offline with the extended calibration: the same numbers, bit for
+  // bit, up to the reload.
+  write_file(config, config_text(dir.path(), shm, "extended.yaml", "effect-outliers"));
+  const auto settings = daemon::config::load_daemon_config(config);
+  realtime::CompensationPipeline pipeline(daemon::pipeline_settings(settings));
+  pipeline.set_calibration(daemon::read_configured_calibration(settings), 1);
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path() / "recordings")) {
+    files.push_back(e.path());
+  }
+  ASSERT_EQ(files.size(), 1u);
+  const io::MeasurementTable table = io::read_measurements_file(files[0].string());
+  std::size_t compared = 0;
+  realtime::replay_recording(
+      table, files[0].string(), pipeline, [&](const ipc::CompensatedScan& s) {
+        const auto it = received.find(s.sequence);
+        if (it == received.end()) return;
+        for (std::size_t i = 0; i < 61; ++i) {
+          const auto& l = it->second["beams"][i];
+          const auto& r = s.beams[150 + i];
+          EXPECT_EQ(l["flags"].get<int>(), r.flags) << s.sequence;
+          EXPECT_TRUE(same(number(l["compensated_mm"]), r.compensated_mm)) << s.sequence;
+          EXPECT_TRUE(same(number(l["window_mm"]), r.window_mm)) << s.sequence;
+        }
+        ++compared;
+      });
+  EXPECT_EQ(compared, received.size());
+}
+
 }  // namespace
 }  // namespace tofcomp::test

@@ -10,17 +10,18 @@
 
 namespace tofcomp::test {
 
-// The daemon on the emulated LMS 200 of the default scenario at time scale 1, its simulated
+// The daemon on the emulated LMS 200 of `scenario` (config/scenarios/) at time scale 1, its simulated
 // case sensor read every 200 ms, `calibration`, recording into dir/recordings, its socket in
 // `dir` and its ring at `shm_name`.
 inline std::string config_text(const std::filesystem::path& dir, const std::string& shm_name,
-                               const std::string& calibration) {
+                               const std::string& calibration,
+                               const std::string& scenario = "default") {
   const std::string root = TOFCOMP_SOURCE_ROOT;
   return "emulator:\n"
          "  enabled: true\n"
          "  scenario: " +
-         root +
-         "/config/scenarios/default.yaml\n"
+         root + "/config/scenarios/" + scenario +
+         ".yaml\n"
          "  time_scale: 1.0\n"
          "case_sensor:\n"
          "  backend: simulated\n"
