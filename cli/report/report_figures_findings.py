@@ -23,6 +23,7 @@ from report_style import (MODE_COLOURS, Figure, histogram_bins, legend_right, pl
 RATE_HALF_WINDOW_S = 30.0  # cli/pipeline.cpp: kRateHalfWindowS
 TAIL_Z = 8.0  # core/residual_diagnosis.hpp: DiagnosisOptions::tail_z
 LAGS = 20  # core/residual_diagnosis.hpp: DiagnosisOptions::ljung_box_lags
+TAIL_LEVELS = [0.93, 0.96, 0.98, 0.99, 0.995, 0.998, 1.0]  # heating-rate quantiles, the tail
 HELD_OUT = ("Drawn on the held-out ranges with the model trained on the first half; the test "
             "ran on the whole record.")
 
@@ -272,21 +273,22 @@ def outliers(r, directory, name):
                   f"{expected:.1g} of these {r.n} ranges; here {beyond} lie beyond. {HELD_OUT}")
 
 
-def _binned_residual(r, x, edges, xlabel, unit, title, directory, name, linear_up_to=None):
+def _binned_residual(r, x, edges, xlabel, unit, title, directory, name, linear_up_to=None,
+                     least=30):
     """Binned means of e against x, and of y − d − Hθ̂ less its mean: the mode left in, so that
     a shift that moves ranges across the modes' midpoint (and e to the other mode) still shows."""
     fig, ax = plt.subplots(figsize=(6.5, 4))
     slopes = []
     inside = (x >= edges[0]) & (x <= edges[-1])
-    grid = np.linspace(edges[0], edges[-1], 400)
     if linear_up_to is not None:
         ax.set_xscale("symlog", linthresh=linear_up_to, linscale=2.0)
     for values, text, colour, marker in (
             (r.e, "e (the tested residual)", "#1f4e9c", "o"),
             (r.residual - np.mean(r.residual), r"$y - d - H\hat{\theta}$ less its mean",
              "#e9a03b", "s")):
-        centre, mean, half_width = binned_means(x, values, edges, least=30)
+        centre, mean, half_width = binned_means(x, values, edges, least)
         slope, intercept = np.polyfit(x[inside], values[inside], 1)
+        grid = np.linspace(np.min(centre), np.max(centre), 400)  # over the bins drawn
         slopes.append(slope)
         ax.errorbar(centre, mean, yerr=half_width, marker=marker, capsize=3, linestyle="none",
                     color=colour, label=f"{text}: bin means (95 % interval)")
@@ -310,13 +312,19 @@ def heating_hysteresis(r, directory, name):
     if np.ptp(rate) <= 0.0:
         return None
     linear_up_to = float(np.quantile(np.abs(rate), 0.9))
+    # Equal-count bins of 10 % up to the 90 % quantile, then narrower ones into the tail, where
+    # the fast heating after a power-on is.
+    levels = np.concatenate([np.linspace(0.0, 0.9, 10), TAIL_LEVELS])
+    edges = np.unique(np.quantile(rate, levels))
     file, slopes = _binned_residual(
-        r, rate, equal_count_edges(rate, 20), r"junction heating rate $d\hat{t}^j/dt$ (°C/min)",
-        "°C/min", "Residual against the heating rate", directory, name, linear_up_to=linear_up_to)
+        r, rate, edges, r"junction heating rate $d\hat{t}^j/dt$ (°C/min)", "°C/min",
+        "Residual against the heating rate", directory, name, linear_up_to=linear_up_to,
+        least=10)
     return Figure("correlation of e with the junction's heating rate", file,
                   f"In blue, the mean of the mode-compensated residual e = y − d − Hθ̂ − μ̂ of "
-                  f"each range's most probable mode (the residual the test correlates) in 20 "
-                  f"equal-count bins of the junction's heating rate (the least-squares slope of "
+                  f"each range's most probable mode (the residual the test correlates) in bins "
+                  f"of the junction's heating rate, 10 % of the ranges each up to the 90 % "
+                  f"quantile, then 3, 3, 2, 1, 0.5, 0.3 and 0.2 % (the least-squares slope of "
                   f"t̂ʲ over ±{RATE_HALF_WINDOW_S:g} s, computed from samples.csv as the "
                   f"diagnosis computes it; the axis is linear up to ±{linear_up_to:.3g} °C/min, "
                   f"where 90 % of the ranges are, logarithmic beyond), with the least-squares "
