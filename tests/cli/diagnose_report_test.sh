@@ -3,9 +3,10 @@
 # scenario, then checks on the report: index.html names only PNGs that exist, are PNG and are
 # not trivial, and no PNG goes unnamed; every paper figure the report promises appears; the
 # findings and the before/after errors carry the numbers `--json` printed; each finding has its
-# figure, captioned with its statistic and p-value; nothing is fetched from the network. Then the renderer alone on the diagnosis JSON's new shape (extension.errors
-# per window) and on a diagnosis that names nothing; then the errors a user meets: a DIR that
-# cannot be made, a Python without matplotlib.
+# figure, captioned with its statistic and p-value; nothing is fetched from the network. Then
+# the renderer alone on the diagnosis JSON's new shape (extension.errors per window) and on a
+# diagnosis that names nothing; then the errors a user meets: a DIR that cannot be made, a
+# Python without matplotlib.
 set -euo pipefail
 tofcomp=$1
 root=$2
