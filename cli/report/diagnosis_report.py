@@ -34,6 +34,7 @@ def missing_modules():
 def render(directory, quiet):
     from report_data import ReportInputError, load_report_data
     from report_figures import draw_figures
+    from report_figures_findings import draw_finding_figures
     from report_html import write_page
 
     try:
@@ -46,9 +47,11 @@ def render(directory, quiet):
             print(f"report: {message}", file=sys.stderr, flush=True)
 
     figures, skipped = draw_figures(data, directory, lambda m: progress(f"drawing {m}"))
+    finding_figures = draw_finding_figures(data, directory, lambda m: progress(f"drawing {m}"))
     page = os.path.join(directory, "index.html")
-    write_page(page, data, figures, skipped)
-    progress(f"wrote {page} with {len(figures)} figures")
+    write_page(page, data, figures, skipped, finding_figures)
+    progress(f"wrote {page} with {len(figures)} figures of the paper and "
+             f"{len(finding_figures)} of the findings")
     return 0
 
 

@@ -2,18 +2,21 @@
 relative path, no script, nothing fetched from the network).
 
 It shows the paper's figures on the data, then the findings of the diagnosis (the JSON of
-`tofcomp diagnose --json`), the extension kept, and the error of d̂ before and after, per window
+`tofcomp diagnose --json`), each with the figure of what its test measures
+(report_figures_findings), the extension kept, and the error of d̂ before and after, per window
 length. Every key of the diagnosis JSON is optional: what is absent is said, not guessed.
 """
 
 import html
 import math
 import os
+import re
 
 STYLE = """
 body { font-family: sans-serif; max-width: 60em; margin: 2em auto; padding: 0 1em; color: #222;
        line-height: 1.45; }
 h1 { font-size: 1.5em; } h2 { font-size: 1.25em; margin-top: 2em; border-bottom: 1px solid #ccc; }
+h3 { font-size: 1.1em; margin-top: 1.5em; }
 table { border-collapse: collapse; margin: 1em 0; font-size: 0.92em; }
 th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: right; }
 th { background: #f1f1f1; } td.text, th.text { text-align: left; }
@@ -100,7 +103,7 @@ def figures_section(figures, skipped):
     return "\n".join(parts)
 
 
-def findings_section(diagnosis):
+def findings_section(diagnosis, finding_figures=None):
     parts = ['<h2 id="findings">Findings</h2>']
     findings = diagnosis.get("findings")
     if not findings:
@@ -108,7 +111,8 @@ def findings_section(diagnosis):
         return "\n".join(parts)
     parts.append("<p>Each candidate effect the paper's model lacks, tested on the "
                  "mode-compensated residuals; significant at 5 % family-wise (Bonferroni), "
-                 "most significant first.</p>")
+                 "most significant first. Below the table, each finding again with the figure "
+                 "of what its test measures.</p>")
     head = "".join(f'<th class="text">{h}</th>' for h in ("effect", "test", "against")) + "".join(
         f"<th>{h}</th>" for h in ("statistic", "p-value", "z", "significant"))
     rows = [f"<table><tr>{head}</tr>"]
@@ -122,6 +126,41 @@ def findings_section(diagnosis):
         ], "significant" if significant else None))
     rows.append("</table>")
     parts.append("\n".join(rows))
+    parts.append(finding_figures_section(findings, finding_figures or {}))
+    return "\n".join(parts)
+
+
+def _slug(effect):
+    return re.sub(r"[^a-z0-9]+", "-", str(effect).lower()).strip("-")
+
+
+def _finding_numbers(f):
+    """The finding's statistic and p-value as the table shows them; for one more mode, the
+    statistic is the log of the split likelihood ratio, a held-out log-likelihood gain."""
+    name = ("log-likelihood gain log T" if f.get("test") == "split likelihood ratio"
+            else "statistic")
+    significant = f.get("significant")
+    verdict = ("significant at 5 % family-wise" if significant else "not significant"
+               if significant is not None else "significance not given")
+    return (f"{f.get('test', '–')} ({f.get('covariate', '–')}): {name} "
+            f"{statistic(f.get('statistic'))}, p-value {p_value(f.get('p_value'))}, {verdict}.")
+
+
+def finding_figures_section(findings, finding_figures):
+    """Each finding with the figure of what its test measures, in the table's order."""
+    parts = ['<h3 id="finding-figures">What each test measures, on these data</h3>']
+    for f in findings:
+        effect = f.get("effect", "–")
+        figure = finding_figures.get(effect)
+        head = f"<b>Finding: {_e(effect)}</b>. {_e(_finding_numbers(f))}"
+        if figure is None:
+            parts.append(f'<p id="finding-{_e(_slug(effect))}">{head} No figure: the data do '
+                         f"not allow one.</p>")
+            continue
+        parts.append(
+            f'<figure id="finding-{_e(_slug(effect))}" class="finding"><img src="{_e(figure.file)}"'
+            f' alt="Finding {_e(effect)}: {_e(figure.paper)}"><figcaption>{head} '
+            f"{_e(figure.caption)}</figcaption></figure>")
     return "\n".join(parts)
 
 
@@ -238,7 +277,7 @@ def run_section(data):
             + "".join(f"<li>{item}</li>" for item in items) + "</ul>")
 
 
-def write_page(path, data, figures, skipped):
+def write_page(path, data, figures, skipped, finding_figures=None):
     c = data.context
     title = f"tofcomp diagnose: {c.get('source', 'report')}"
     body = [
@@ -250,7 +289,7 @@ def write_page(path, data, figures, skipped):
         f"<a href=\"#errors\">errors</a>, <a href=\"#run\">what was run</a>.</p>",
         summary_section(data.diagnosis),
         figures_section(figures, skipped),
-        findings_section(data.diagnosis),
+        findings_section(data.diagnosis, finding_figures),
         extension_section(data.diagnosis),
         compensation_section(data),
         run_section(data),

@@ -2,10 +2,11 @@
 # End to end through the real binary: `tofcomp diagnose --report DIR` on a short time-drift
 # scenario, then checks on the report: index.html names only PNGs that exist, are PNG and are
 # not trivial, and no PNG goes unnamed; every paper figure the report promises appears; the
-# findings and the before/after errors carry the numbers `--json` printed; nothing is fetched
-# from the network. Then the renderer alone on the diagnosis JSON's new shape (extension.errors
-# per window) and on a diagnosis that names nothing; then the errors a user meets: a DIR that
-# cannot be made, a Python without matplotlib.
+# findings and the before/after errors carry the numbers `--json` printed; each finding has its
+# figure, captioned with its statistic and p-value; nothing is fetched from the network. Then
+# the renderer alone on the diagnosis JSON's new shape (extension.errors per window) and on a
+# diagnosis that names nothing; then the errors a user meets: a DIR that cannot be made, a
+# Python without matplotlib.
 set -euo pipefail
 tofcomp=$1
 root=$2
@@ -74,6 +75,27 @@ for finding in diagnosis.get("findings", []):
     expect(("<td>yes</td>" if finding["significant"] else "<td>no</td>") in cells,
            f"{finding['effect']}: significance not shown")
 
+# One figure per finding of the JSON, in the findings' order: a PNG the page names (so checked
+# above: it exists, is a PNG of more than 10 kB), its caption carrying the finding's numbers.
+figures_of_findings = re.findall(r'<figure id="finding-([a-z0-9-]+)" class="finding">', page)
+findings = diagnosis.get("findings", [])
+expect(len(figures_of_findings) == len(findings),
+       f"{len(figures_of_findings)} finding figures for {len(findings)} findings")
+for finding, shown in zip(findings, figures_of_findings):
+    slug = re.sub(r"[^a-z0-9]+", "-", finding["effect"].lower()).strip("-")
+    expect(shown == slug, f"finding figure {shown} where {slug} was expected")
+    figure = re.search(rf'<figure id="finding-{slug}" class="finding"><img src="([^"]+)"[^>]*>'
+                       r"<figcaption>(.*?)</figcaption></figure>", page, re.S)
+    expect(figure, f"{finding['effect']}: no figure with a caption")
+    source, caption = figure.groups()
+    expect(source in sources and source.startswith("figures/finding_"),
+           f"{finding['effect']}: the figure {source} is not a finding figure the page names")
+    expect(html.escape(finding["effect"]) in caption, f"{source}: its caption names no effect")
+    numbers = (f" {format(finding['statistic'], '.4g')}, "
+               f"p-value {format(finding['p_value'], '.3g')}, "
+               + ("significant" if finding["significant"] else "not significant"))
+    expect(numbers in caption, f"{finding['effect']}: '{numbers}' not in its figure's caption")
+
 # The extension and its error table: MAE before and after of each window, and the factor.
 extension = diagnosis.get("extension")
 if extension is None:
@@ -99,7 +121,8 @@ else:
 for window in (200, 400, 800):
     expect(re.search(rf"<tr><td>{window}</td><td class=\"text\">d̂ \(EM testing\)", text),
            f"no compensation row for window {window}")
-print(f"{directory}: {len(sources)} figures, the findings and the errors check out")
+print(f"{directory}: {len(sources)} figures ({len(findings)} of findings), the findings and the "
+      f"errors check out")
 PY
 
 all_figures=3,4,8,9,10,11,12,13,14,15,16,17,18,19
@@ -110,6 +133,7 @@ python3 - "$work/diagnosis.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["named"] == "time drift" and d["extension"]["kept"], d
+assert len(d["findings"]) == 8, d  # so the page above carries all eight finding figures
 PY
 
 # The renderer alone on the shape the diagnosis JSON is moving to, and on a diagnosis that
