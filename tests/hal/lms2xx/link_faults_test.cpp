@@ -89,10 +89,12 @@ TEST(Lms2xxLinkUnderFaults, OneFaultPerHundredTelegrams) {
   EXPECT_GE(host.link_losses, injected.hang_ups - unheard_hang_ups);
   EXPECT_LT(unheard_hang_ups, injected.hang_ups / 10) << "the host was closed for too many";
 
-  // Streaming again within 1 s of each hang-up and reset.
+  // Streaming again within 1 s of each hang-up and reset the test waited out: the device goes on
+  // injecting faults until stop(), and one in the last moments before it has no scan after it.
   Clock::duration slowest{};
   for (const auto& [fault, when] : link.faults()) {
     if (fault != emu::LinkFault::HangUp && fault != emu::LinkFault::Reset) continue;
+    if (when > last_fault) continue;
     const auto after = std::find_if(link.received().begin(), link.received().end(),
                                     [&](const ReceivedRecord& r) { return r.when > when; });
     ASSERT_NE(after, link.received().end()) << "no scan after a " << emu::to_string(fault);
