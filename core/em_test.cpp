@@ -44,20 +44,26 @@ double distance_standard_deviation(const Eigen::Ref<const Eigen::VectorXd>& corr
   return 1.0 / std::sqrt(observed > 0.0 ? observed : complete);
 }
 
-EmTestResult test_em(const Eigen::Ref<const Eigen::VectorXd>& y,
-                     const Eigen::Ref<const Eigen::VectorXd>& bias,
-                     const MixtureParameters& mixture, const EmTestOptions& options,
-                     std::optional<double> initial_distance) {
+void validate_test_arguments(const Eigen::Ref<const Eigen::VectorXd>& y,
+                             const Eigen::Ref<const Eigen::VectorXd>& bias,
+                             const EmTestOptions& options, std::optional<double> initial_distance) {
   if (y.size() == 0) throw InvalidInput("EM testing needs at least one range");
   require_same_length(y.size(), "y", bias.size(), "H theta");
   require_finite(y, "y");
   require_finite(bias, "H theta");
-  mixture.validate();
   if (options.max_iterations < 1) throw InvalidInput("EM testing needs max_iterations >= 1");
   if (!(options.distance_tolerance > 0.0)) {
     throw InvalidInput("distance_tolerance must be positive");
   }
   if (initial_distance) require_finite(*initial_distance, "initial distance");
+}
+
+EmTestResult test_em(const Eigen::Ref<const Eigen::VectorXd>& y,
+                     const Eigen::Ref<const Eigen::VectorXd>& bias,
+                     const MixtureParameters& mixture, const EmTestOptions& options,
+                     std::optional<double> initial_distance) {
+  validate_test_arguments(y, bias, options, initial_distance);
+  mixture.validate();
 
   const Eigen::VectorXd corrected = y - bias;
   EmTestResult result;

@@ -45,6 +45,12 @@ double distance_standard_deviation(const Eigen::Ref<const Eigen::VectorXd>& corr
                                    const Eigen::MatrixXd& responsibilities,
                                    const Eigen::VectorXd& mean, const Eigen::MatrixXd& precision);
 
+// The checks every EM test makes of its arguments: y and bias of one length K ≥ 1, finite, and
+// options and a warm start that can run. Throws InvalidInput naming the first failure.
+void validate_test_arguments(const Eigen::Ref<const Eigen::VectorXd>& y,
+                             const Eigen::Ref<const Eigen::VectorXd>& bias,
+                             const EmTestOptions& options, std::optional<double> initial_distance);
+
 // y and bias (H θ̂) of one length K ≥ 1. Starts from initial_distance when given (a warm start
 // from the previous window), otherwise from the paper's d = 1ᵀy / K for PaperAsPrinted and from
 // mean(y − H θ̂) − Σ π_i μ_i for Exact.

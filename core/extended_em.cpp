@@ -130,10 +130,8 @@ EmTestResult test_extended_em(const Eigen::Ref<const Eigen::VectorXd>& y,
                               const Eigen::Ref<const Eigen::VectorXi>& bin_in,
                               const ExtendedMixture& model, const EmTestOptions& options,
                               std::optional<double> initial_distance) {
-  if (y.size() == 0) throw InvalidInput("EM testing needs at least one range");
-  require_same_length(y.size(), "y", bias.size(), "H theta");
-  require_finite(y, "y");
-  require_finite(bias, "H theta");
+  validate_test_arguments(y, bias, options, initial_distance);
+  require_same_length(y.size(), "y", bin_in.size(), "temperature bins");
   model.validate();
   const Eigen::VectorXd x = y - bias;
   const Eigen::VectorXi bin = bin_in;
