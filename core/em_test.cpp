@@ -70,24 +70,14 @@ EmTestResult test_em(const Eigen::Ref<const Eigen::VectorXd>& y,
   double d = initial_distance                          ? *initial_distance
              : options.m_step == MStep::PaperAsPrinted ? y.mean()
                                                        : corrected.mean() - mixture.mean_offset();
-  for (;;) {
-    // E-step, Eq. 22.
-    result.log_likelihood = mixture_e_step(corrected.array() - d, mixture, result.responsibilities);
-    if (result.iterations == options.max_iterations) break;
-    // M-step, Eq. 23.
-    const double next =
-        distance_m_step(options.m_step, corrected, result.responsibilities, mixture);
-    ++result.iterations;
-    if (options.record_trace) result.distance_trace.push_back(next);
-    const double change = std::abs(next - d);
-    d = next;
-    if (change < options.distance_tolerance) {
-      result.converged = true;
-      result.log_likelihood =
-          mixture_e_step(corrected.array() - d, mixture, result.responsibilities);
-      break;
-    }
-  }
+  d = iterate_distance(
+      d, options, result,
+      [&](double at) {  // E-step, Eq. 22
+        return mixture_e_step(corrected.array() - at, mixture, result.responsibilities);
+      },
+      [&] {  // M-step, Eq. 23
+        return distance_m_step(options.m_step, corrected, result.responsibilities, mixture);
+      });
   result.distance = d;
   const Eigen::MatrixXd precision =
       Eigen::VectorXd::Ones(y.size()) * mixture.variance.cwiseInverse().transpose();

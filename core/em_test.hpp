@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -50,6 +51,30 @@ double distance_standard_deviation(const Eigen::Ref<const Eigen::VectorXd>& corr
 void validate_test_arguments(const Eigen::Ref<const Eigen::VectorXd>& y,
                              const Eigen::Ref<const Eigen::VectorXd>& bias,
                              const EmTestOptions& options, std::optional<double> initial_distance);
+
+// The iteration of §6 both noise models share, from d: e_step(d) fills the responsibilities at d
+// and returns the log-likelihood, m_step() returns the next d from them (Eq. 22, Eq. 23). Stops
+// when |Δd| < options.distance_tolerance (converged, the E-step redone at the final d) or after
+// options.max_iterations; fills result's log-likelihood, iterations, convergence and trace, and
+// returns the final d.
+template <typename EStep, typename DistanceStep>
+double iterate_distance(double d, const EmTestOptions& options, EmTestResult& result,
+                        const EStep& e_step, const DistanceStep& m_step) {
+  for (;;) {
+    result.log_likelihood = e_step(d);
+    if (result.iterations == options.max_iterations) return d;
+    const double next = m_step();
+    ++result.iterations;
+    if (options.record_trace) result.distance_trace.push_back(next);
+    const bool settled = std::abs(next - d) < options.distance_tolerance;
+    d = next;
+    if (settled) {
+      result.converged = true;
+      result.log_likelihood = e_step(d);
+      return d;
+    }
+  }
+}
 
 // y and bias (H θ̂) of one length K ≥ 1. Starts from initial_distance when given (a warm start
 // from the previous window), otherwise from the paper's d = 1ᵀy / K for PaperAsPrinted and from

@@ -138,26 +138,16 @@ EmTestResult test_extended_em(const Eigen::Ref<const Eigen::VectorXd>& y,
   ExtendedResponsibilities r;
   EmTestResult result;
   double d = initial_distance ? *initial_distance : x.mean() - model.modes.mean_offset();
-  for (;;) {
-    result.log_likelihood = extended_e_step(x.array() - d, bin, model, r);
-    if (result.iterations == options.max_iterations) break;
-    const Eigen::MatrixXd w = precision_weights(r.mode, bin, model);
-    const double total = w.sum();
-    if (!(total > 0.0)) {
-      throw NumericalError("EM testing: every range of the window is taken for an outlier");
-    }
-    const double next =
-        (w.rowwise().sum().dot(x) - w.colwise().sum().dot(model.modes.mean)) / total;
-    ++result.iterations;
-    if (options.record_trace) result.distance_trace.push_back(next);
-    const double change = std::abs(next - d);
-    d = next;
-    if (change < options.distance_tolerance) {
-      result.converged = true;
-      result.log_likelihood = extended_e_step(x.array() - d, bin, model, r);
-      break;
-    }
-  }
+  d = iterate_distance(
+      d, options, result, [&](double at) { return extended_e_step(x.array() - at, bin, model, r); },
+      [&] {
+        const Eigen::MatrixXd w = precision_weights(r.mode, bin, model);
+        const double total = w.sum();
+        if (!(total > 0.0)) {
+          throw NumericalError("EM testing: every range of the window is taken for an outlier");
+        }
+        return (w.rowwise().sum().dot(x) - w.colwise().sum().dot(model.modes.mean)) / total;
+      });
   result.distance = d;
   Eigen::MatrixXd precision(x.size(), model.modes.modes());
   for (Eigen::Index k = 0; k < x.size(); ++k) {
