@@ -41,17 +41,8 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
       subscriber.request({{"op", "subscribe"}, {"id", 1}, {"beams", {150, 210}}}, 10s);
   ASSERT_TRUE(ack.value("ok", false)) << ack.dump();
   std::map<std::uint64_t, nlohmann::json> received;
-  while (received.size() < 150) {
-    std::optional<nlohmann::json> message;
-    try {
-      message = subscriber.read_message(30s);
-    } catch (const std::exception& e) {
-      FAIL() << e.what() << "\n" << daemon.log();
-    }
-    ASSERT_TRUE(message.has_value()) << "no scan within 30 s\n" << daemon.log();
-    const nlohmann::json& scan = scan_of(*message);
-    received[scan.at("sequence").get<std::uint64_t>()] = scan;
-  }
+  ASSERT_NO_FATAL_FAILURE(collect_scans(
+      subscriber, 150, [&] { return daemon.log(); }, received));
   // In order, without gaps.
   std::uint64_t expected = received.begin()->first;
   for (const auto& [sequence, scan] : received) EXPECT_EQ(sequence, expected++);
@@ -292,18 +283,11 @@ TEST(DaemonEndToEnd, CompensatesWithACalibrationsExtension) {
   ASSERT_TRUE(
       subscriber.request({{"op", "subscribe"}, {"beams", {150, 210}}}, 10s).value("ok", false));
   std::map<std::uint64_t, nlohmann::json> received;
+  ASSERT_NO_FATAL_FAILURE(collect_scans(
+      subscriber, 300, [&] { return daemon.log(); }, received));
   std::size_t outliers = 0;
   std::size_t compensated = 0;
-  while (received.size() < 300) {
-    std::optional<nlohmann::json> message;
-    try {
-      message = subscriber.read_message(30s);
-    } catch (const std::exception& e) {
-      FAIL() << e.what() << "\n" << daemon.log();
-    }
-    ASSERT_TRUE(message.has_value()) << "no scan within 30 s\n" << daemon.log();
-    const nlohmann::json& scan = scan_of(*message);
-    received[scan.at("sequence").get<std::uint64_t>()] = scan;
+  for (const auto& [sequence, scan] : received) {
     for (const auto& b : scan["beams"]) {
       outliers += (b["flags"].get<int>() & ipc::kBeamOutlier) != 0;
       compensated += !b["compensated_mm"].is_null();
