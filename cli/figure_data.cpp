@@ -19,14 +19,16 @@ std::string samples_csv(const MeasuredData& test, const io::Calibration& calibra
       core::test_em(test.range_mm, compensation.bias_mm, calibration.model.noise);
   const bool has_truth = std::all_of(test.has_true_range.begin(), test.has_true_range.end(),
                                      [](bool known) { return known; });
-  std::string out = "time_s,range_mm,junction_c,bias_mm";
+  const Eigen::VectorXd time_since_power_on_s = test.time_since_power_on();
+  std::string out = "time_s,time_since_power_on_s,range_mm,junction_c,bias_mm";
   for (int i = 0; i < modes; ++i) out += fmt::format(",posterior_mode{}", i + 1);
   out += has_truth ? ",compensated_mm,true_range_mm\n" : ",compensated_mm\n";
   for (Eigen::Index k = 0; k < test.range_mm.size(); ++k) {
     Eigen::Index best = 0;
     fit.responsibilities.row(k).maxCoeff(&best);
-    out += fmt::format("{},{},{},{}", test.range_time_s[k], test.range_mm[k],
-                       compensation.junction.junction_c[k], compensation.bias_mm[k]);
+    out += fmt::format("{},{},{},{},{}", test.range_time_s[k], time_since_power_on_s[k],
+                       test.range_mm[k], compensation.junction.junction_c[k],
+                       compensation.bias_mm[k]);
     for (int i = 0; i < modes; ++i) out += fmt::format(",{}", fit.responsibilities(k, i));
     out += fmt::format(
         ",{}", test.range_mm[k] - compensation.bias_mm[k] - calibration.model.noise.mean[best]);

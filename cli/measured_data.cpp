@@ -35,6 +35,25 @@ bool MeasuredData::power_on_at(double time_s) const {
   return on;
 }
 
+double MeasuredData::last_power_on_at(double time_s) const {
+  bool on = true;
+  double since = powered_since_s;
+  for (const auto& [t, state] : power_changes) {
+    if (t > time_s) break;
+    if (state && !on) since = t;
+    on = state;
+  }
+  return since;
+}
+
+Eigen::VectorXd MeasuredData::time_since_power_on() const {
+  Eigen::VectorXd out(range_time_s.size());
+  for (Eigen::Index k = 0; k < out.size(); ++k) {
+    out[k] = range_time_s[k] - last_power_on_at(range_time_s[k]);
+  }
+  return out;
+}
+
 double MeasuredData::ambient_at(double time_s, double fallback_c) const {
   if (ambient.empty()) return fallback_c;
   double value = ambient.front().second;
@@ -82,8 +101,10 @@ MeasuredData MeasuredData::slice(double begin_s, double end_s) const {
   }
   out.temperature_time_s = temperature_time_s(readings);
   out.case_c = case_c(readings);
-  // The power state in force at begin_s carries into the slice as a change at begin_s.
+  // The power state in force at begin_s carries into the slice as a change at begin_s, and so
+  // does when it was switched on.
   out.power_changes.emplace_back(begin_s, power_on_at(begin_s));
+  out.powered_since_s = last_power_on_at(begin_s);
   for (const auto& e : in_window(power_changes, begin_s, end_s)) {
     if (e.first > begin_s) out.power_changes.push_back(e);
   }

@@ -27,10 +27,17 @@ struct MeasuredData {
   Eigen::VectorXd case_c;
   // Power changes (time, on), in time order; the power is on before the first.
   std::vector<std::pair<double, bool>> power_changes;
+  // When the power, on before the first change, was switched on: the start of the experiment
+  // (time 0), or in a slice the last power-on before it.
+  double powered_since_s = 0.0;
   // Logged ambient (time, °C); empty when the data carry none.
   std::vector<std::pair<double, double>> ambient;
 
   bool power_on_at(double time_s) const;
+  // The time of the last switch-on at or before time_s (powered_since_s when none).
+  double last_power_on_at(double time_s) const;
+  // Seconds since the last switch-on at each range (the warm-up covariate).
+  Eigen::VectorXd time_since_power_on() const;
   // The last logged ambient at or before time_s (the first one before it), or fallback.
   double ambient_at(double time_s, double fallback_c) const;
   // Throws core::InvalidInput unless every range has a true distance, naming the first line

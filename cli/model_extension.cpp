@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
+#include <optional>
 
 #include "core/em_train.hpp"
 #include "core/error.hpp"
 #include "core/extended_em.hpp"
+#include "core/warm_up.hpp"
 
 namespace tofcomp::cli {
 namespace {
@@ -27,6 +30,7 @@ struct Fit {
 core::Covariate covariate_of(core::EffectKind effect) {
   if (effect == core::EffectKind::TimeDrift) return core::Covariate::TimeHours;
   if (effect == core::EffectKind::HeatingHysteresis) return core::Covariate::HeatingRateCPerMinute;
+  if (effect == core::EffectKind::WarmUp) return core::Covariate::WarmUp;
   return core::Covariate::None;
 }
 
@@ -97,6 +101,11 @@ std::string describe(const core::ModelExtension& e, int base_modes) {
       return "Eq. 8 + gamma * time (h): a drift of the range with time";
     case core::EffectKind::HeatingHysteresis:
       return "Eq. 8 + gamma * dt^j/dt (°C/min): a bias that depends on heating or cooling";
+    case core::EffectKind::WarmUp:
+      return fmt::format(
+          "Eq. 8 + gamma * exp(-t_on / tau), tau = {:.0f} s: a transient after each power-on (t_on "
+          "the time since it; tau by the profile likelihood)",
+          e.time_constant_s);
     case core::EffectKind::ModePersistence:
       return "Eq. 8 with the lasing mode a Markov chain (transition matrix A) instead of "
              "independent draws";
@@ -126,6 +135,7 @@ std::vector<std::pair<std::string, double>> parameters_of(const core::ModelExten
     out.emplace_back(std::string("gamma_mm_per_") + core::covariate_name(e.covariate),
                      e.covariate_mm);
   }
+  if (e.covariate == core::Covariate::WarmUp) out.emplace_back("tau_s", e.time_constant_s);
   for (Eigen::Index i = 0; i < n.transition.rows(); ++i) {
     out.emplace_back(fmt::format("stay_probability_mode{}", i + 1), n.transition(i, i));
   }
@@ -157,6 +167,32 @@ std::vector<std::pair<std::string, double>> parameters_of(const core::ModelExten
   return out;
 }
 
+// The warm-up's τ between the neighbours of the best point of the grid, by a golden-section
+// search in log τ for the largest `log_likelihood_at(τ)` (which fits at τ and keeps the best).
+template <typename LogLikelihoodAt>
+void refine_time_constant(double best_on_grid, LogLikelihoodAt&& log_likelihood_at) {
+  constexpr int kSteps = 12;  // the bracket shrinks to 0.618^12 ≈ 0.3 % of its log-width
+  const auto& grid = core::kWarmUpTimeConstantsS;
+  const auto at = std::find(grid.begin(), grid.end(), best_on_grid);
+  if (at == grid.end()) return;
+  double lo = std::log(at == grid.begin() ? grid.front() : *(at - 1));
+  double hi = std::log(at + 1 == grid.end() ? grid.back() : *(at + 1));
+  const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = hi - ratio * (hi - lo), b = lo + ratio * (hi - lo);
+  double fa = log_likelihood_at(std::exp(a)), fb = log_likelihood_at(std::exp(b));
+  for (int step = 0; step < kSteps; ++step) {
+    if (fa >= fb) {
+      hi = b, b = a, fb = fa;
+      a = hi - ratio * (hi - lo);
+      fa = log_likelihood_at(std::exp(a));
+    } else {
+      lo = a, a = b, fa = fb;
+      b = lo + ratio * (hi - lo);
+      fb = log_likelihood_at(std::exp(b));
+    }
+  }
+}
+
 // Fits the extension for one effect (not serial dependence) on the training part.
 Fit fit_extension(core::EffectKind effect, const MeasuredData& train, const Training& base,
                   const TrainSettings& settings) {
@@ -176,20 +212,45 @@ Fit fit_extension(core::EffectKind effect, const MeasuredData& train, const Trai
     fit.theta = em.theta;
     fit.extension.noise = core::without_extensions(em.mixture);
   } else {
-    if (fit.extension.covariate != core::Covariate::None) {
+    const core::ExtendedMixture start =
+        start_noise(effect, c.model.noise, y - c.model.bias(junction), junction);
+    const Eigen::VectorXi bin = start.bin_of(junction);
+    const bool has_covariate = fit.extension.covariate != core::Covariate::None;
+    if (has_covariate) {
       h.conservativeResize(Eigen::NoChange, h.cols() + 1);
-      h.col(h.cols() - 1) =
-          core::covariate_values(fit.extension.covariate, train.range_time_s, junction);
       theta.conservativeResize(theta.size() + 1);
       theta[theta.size() - 1] = 0.0;
     }
-    const core::ExtendedMixture start =
-        start_noise(effect, c.model.noise, y - c.model.bias(junction), junction);
-    const core::ExtendedEmResult em =
-        core::train_extended_em(h, y, start.bin_of(junction), theta, start);
-    fit.theta = em.theta;
-    fit.extension.noise = em.model;
-    if (fit.extension.covariate != core::Covariate::None) {
+    const Eigen::VectorXd time_since_power_on_s = train.time_since_power_on();
+    const core::CovariateInputs inputs{train.range_time_s, junction, time_since_power_on_s};
+    // A fit for one τ of the warm-up (ignored by the other covariates): the closed-form EM.
+    const auto fit_for = [&](double tau) {
+      if (has_covariate) {
+        h.col(h.cols() - 1) = core::covariate_values(fit.extension.covariate, inputs, tau);
+      }
+      return core::train_extended_em(h, y, bin, theta, start);
+    };
+    std::optional<core::ExtendedEmResult> best;
+    const auto consider = [&](double tau) {
+      core::ExtendedEmResult em = fit_for(tau);
+      const double log_likelihood = em.log_likelihood;
+      if (!best || log_likelihood > best->log_likelihood) {
+        best = std::move(em);
+        fit.extension.time_constant_s = tau;
+      }
+      return log_likelihood;
+    };
+    if (fit.extension.covariate == core::Covariate::WarmUp) {
+      // τ maximizes the profile likelihood: the grid, then a golden-section search in log τ
+      // between the best grid point's neighbours.
+      for (const double tau : core::kWarmUpTimeConstantsS) consider(tau);
+      refine_time_constant(fit.extension.time_constant_s, consider);
+    } else {
+      consider(0.0);
+    }
+    fit.theta = best->theta;
+    fit.extension.noise = best->model;
+    if (has_covariate) {
       fit.extension.covariate_mm = fit.theta[fit.theta.size() - 1];
       fit.theta.conservativeResize(fit.theta.size() - 1);
     }
@@ -269,7 +330,7 @@ ExtensionReport evaluate_extension(core::EffectKind named, const MeasuredData& t
   std::optional<ExtensionReport> best;
   for (const core::EffectKind candidate :
        {core::EffectKind::ModePersistence, core::EffectKind::TimeDrift,
-        core::EffectKind::HeatingHysteresis}) {
+        core::EffectKind::HeatingHysteresis, core::EffectKind::WarmUp}) {
     ExtensionReport r =
         judge(named, fit_extension(candidate, train, base, settings), base, test, windows, stride);
     if (!best || r.held_out_log_likelihood_gain() > best->held_out_log_likelihood_gain()) {

@@ -80,8 +80,9 @@ Compensation compensate(const MeasuredData& data, const io::Calibration& calibra
       junction_at_ranges(data, calibration.thermal, calibration.noise, calibration.ambient_c);
   out.bias_mm = calibration.model.bias(out.junction.junction_c);
   if (calibration.extension) {
-    out.bias_mm +=
-        calibration.extension->covariate_bias(data.range_time_s, out.junction.junction_c);
+    const Eigen::VectorXd time_since_power_on_s = data.time_since_power_on();
+    out.bias_mm += calibration.extension->covariate_bias(
+        {data.range_time_s, out.junction.junction_c, time_since_power_on_s});
   }
   return out;
 }
@@ -109,6 +110,7 @@ core::Diagnosis diagnose(const MeasuredData& data, const io::Calibration& calibr
   input.junction_c = compensation.junction.junction_c;
   input.junction_rate_c_per_s =
       core::local_rate(data.range_time_s, compensation.junction.junction_c, kRateHalfWindowS);
+  input.time_since_power_on_s = data.time_since_power_on();
   input.residual = data.range_mm - data.true_range_mm - compensation.bias_mm;
   return core::diagnose_residuals(input, noise_of(calibration).modes);
 }

@@ -8,6 +8,7 @@
 #include "core/em_train.hpp"
 #include "core/error.hpp"
 #include "core/validation.hpp"
+#include "core/warm_up.hpp"
 
 namespace tofcomp::core {
 namespace {
@@ -112,6 +113,8 @@ const char* effect_name(EffectKind kind) {
       return "heating hysteresis";
     case EffectKind::TimeDrift:
       return "time drift";
+    case EffectKind::WarmUp:
+      return "warm-up after power-on";
     case EffectKind::ExtraMode:
       return "one more lasing mode";
     case EffectKind::SerialDependence:
@@ -152,9 +155,11 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
   require_same_length(in.time_s.size(), "time", n, "residual");
   require_same_length(in.junction_c.size(), "junction temperature", n, "residual");
   require_same_length(in.junction_rate_c_per_s.size(), "junction rate", n, "residual");
+  require_same_length(in.time_since_power_on_s.size(), "time since power-on", n, "residual");
   require_finite(in.residual, "residual");
   require_finite(in.junction_c, "junction temperature");
   require_finite(in.junction_rate_c_per_s, "junction rate");
+  require_finite(in.time_since_power_on_s, "time since power-on");
   mixture.validate();
   if (n < kMinRanges) throw InvalidInput("the diagnosis needs at least 100 ranges");
 
@@ -201,6 +206,10 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
                             correlation_test(in.junction_rate_c_per_s, d.compensated)));
   d.findings.push_back(make(EffectKind::TimeDrift, "correlation", "time",
                             correlation_test(in.time_s, d.compensated)));
+  d.findings.push_back(
+      make(EffectKind::WarmUp, "best correlation over 7 time constants (Bonferroni)",
+           "exp(-time since power-on / tau), tau 30 s..32 min",
+           best_correlation_test(warm_up_covariates(in.time_since_power_on_s), d.compensated)));
   d.findings.push_back(make(
       EffectKind::SerialDependence, "Ljung-Box", "lags 1..20",
       ljung_box(d.compensated, std::min<int>(options.ljung_box_lags, static_cast<int>(n / 4)))));

@@ -12,6 +12,9 @@
 //                               modes against M on the residuals, each half fitted by EM
 //   heating hysteresis          correlation of e with the junction's rate of change
 //   time drift                  correlation of e with time
+//   warm-up after power-on      correlation of e with exp(−t_on/τ), t_on the time since the
+//                               power-on, the best τ of a grid (core/warm_up.hpp), Bonferroni
+//                               over the grid
 //   serial dependence           Ljung–Box on e (what is left once the above are accounted)
 // A finding is significant at level α / (number of tests) (Bonferroni), so that data with no
 // effect raise any finding with probability at most α. Significant findings come first, those
@@ -36,6 +39,7 @@ enum class EffectKind {
   Outliers,
   HeatingHysteresis,
   TimeDrift,
+  WarmUp,
   ExtraMode,
   SerialDependence,
 };
@@ -54,6 +58,7 @@ struct DiagnosisInput {
   Eigen::VectorXd time_s;
   Eigen::VectorXd junction_c;
   Eigen::VectorXd junction_rate_c_per_s;
+  Eigen::VectorXd time_since_power_on_s;
   Eigen::VectorXd residual;  // y − d − H θ̂ (modes still in it)
 };
 

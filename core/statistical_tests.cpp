@@ -122,6 +122,25 @@ TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
   return {r, two_sided_normal_p(z), static_cast<double>(n - 2), std::abs(z)};
 }
 
+TestResult best_correlation_test(const Eigen::Ref<const Eigen::MatrixXd>& x_columns,
+                                 const Eigen::Ref<const Eigen::VectorXd>& y,
+                                 Eigen::Index* best_column) {
+  if (x_columns.cols() < 1) throw InvalidInput("a best-correlation test needs a candidate");
+  TestResult best;
+  Eigen::Index best_index = 0;
+  for (Eigen::Index c = 0; c < x_columns.cols(); ++c) {
+    const TestResult r = correlation_test(x_columns.col(c), y);
+    if (c == 0 || r.z > best.z) best = r, best_index = c;
+  }
+  if (best_column) *best_column = best_index;
+  // Two-sided: p = 2 Q(z); corrected, Q(z') = columns × Q(z).
+  const double log_tail = std::log(static_cast<double>(x_columns.cols())) +
+                          log_upper_normal_tail(best.z);
+  best.p_value = std::min(1.0, 2.0 * std::exp(log_tail));
+  best.z = normal_deviate_of_log_p(log_tail);
+  return best;
+}
+
 TestResult likelihood_ratio_test(double log_likelihood_null, double log_likelihood_alternative,
                                  int extra_parameters) {
   require_finite(log_likelihood_null, "null log-likelihood");
@@ -184,14 +203,15 @@ TestResult tail_excess_test(double observed, double n, double tail_probability) 
   return r;
 }
 
+double log_upper_normal_tail(double z) {
+  if (z < 30.0) return std::log(0.5 * std::erfc(z / std::numbers::sqrt2));
+  return -0.5 * z * z - std::log(z * std::sqrt(2.0 * std::numbers::pi)) +
+         std::log1p(-1.0 / (z * z));
+}
+
 double normal_deviate_of_log_p(double log_p) {
   if (log_p >= std::log(0.5)) return 0.0;
-  // log Q(z): exact from erfc while it is representable, else the asymptotic series.
-  const auto log_upper_tail = [](double z) {
-    if (z < 30.0) return std::log(0.5 * std::erfc(z / std::numbers::sqrt2));
-    return -0.5 * z * z - std::log(z * std::sqrt(2.0 * std::numbers::pi)) +
-           std::log1p(-1.0 / (z * z));
-  };
+  const auto log_upper_tail = [](double z) { return log_upper_normal_tail(z); };
   double z = std::sqrt(-2.0 * log_p);
   for (int i = 0; i < 60; ++i) {
     // d/dz log Q(z) = −φ(z)/Q(z) ≈ −(z + 1/z) for large z; Newton on log Q.

@@ -98,6 +98,7 @@ constexpr core::EffectKind kEffects[] = {core::EffectKind::ModePersistence,
                                          core::EffectKind::Outliers,
                                          core::EffectKind::HeatingHysteresis,
                                          core::EffectKind::TimeDrift,
+                                         core::EffectKind::WarmUp,
                                          core::EffectKind::ExtraMode};
 
 void emit_matrix(YAML::Emitter& out, const char* key, const Eigen::MatrixXd& m) {
@@ -123,6 +124,9 @@ void emit_extension(YAML::Emitter& out, const core::ModelExtension& e,
   out << YAML::Key << "effect" << YAML::Value << effect_token(e.effect);
   out << YAML::Key << "covariate" << YAML::Value << core::covariate_name(e.covariate);
   out << YAML::Key << "covariate_mm" << YAML::Value << e.covariate_mm;
+  if (e.covariate == core::Covariate::WarmUp) {
+    out << YAML::Key << "time_constant_s" << YAML::Value << e.time_constant_s;
+  }
   if (e.noise.bin_edges_c.size() > 0) {
     out << YAML::Key << "bin_edges_c" << YAML::Value << YAML::Flow << YAML::BeginSeq;
     for (Eigen::Index b = 0; b < e.noise.bin_edges_c.size(); ++b) out << e.noise.bin_edges_c[b];
@@ -164,7 +168,8 @@ Eigen::MatrixXd read_matrix(const YamlMap& parent, std::string_view key) {
 
 core::ModelExtension read_extension(const YamlMap& top, const core::MixtureParameters& modes) {
   const YamlMap x(top.node("extension"), "extension",
-                  {"effect", "covariate", "covariate_mm", "bin_edges_c", "bin_weights",
+                  {"effect", "covariate", "covariate_mm", "time_constant_s", "bin_edges_c",
+                   "bin_weights",
                    "bin_variances_mm2", "transition", "outlier_weight", "outlier_span_mm"});
   core::ModelExtension e;
   const std::string effect = x.text("effect");
@@ -176,11 +181,20 @@ core::ModelExtension read_extension(const YamlMap& top, const core::MixtureParam
   const std::string covariate = x.text_or("covariate", "none");
   bool covariate_known = false;
   for (const core::Covariate c : {core::Covariate::None, core::Covariate::TimeHours,
-                                  core::Covariate::HeatingRateCPerMinute}) {
+                                  core::Covariate::HeatingRateCPerMinute,
+                                  core::Covariate::WarmUp}) {
     if (covariate == core::covariate_name(c)) e.covariate = c, covariate_known = true;
   }
-  if (!covariate_known) x.fail("covariate", "must be none, time_h or heating_rate_c_per_min");
+  if (!covariate_known) {
+    x.fail("covariate", "must be none, time_h, heating_rate_c_per_min or warm_up");
+  }
   e.covariate_mm = x.number_or("covariate_mm", 0.0);
+  if (e.covariate == core::Covariate::WarmUp) {
+    e.time_constant_s = x.number("time_constant_s");
+    if (!(e.time_constant_s > 0.0)) x.fail("time_constant_s", "must be positive");
+  } else if (x.has("time_constant_s")) {
+    x.fail("time_constant_s", "belongs to the warm_up covariate only");
+  }
   e.noise.modes = modes;
   if (x.has("bin_edges_c")) e.noise.bin_edges_c = read_vector(x, "bin_edges_c");
   e.noise.bin_weight = read_matrix(x, "bin_weights");

@@ -7,6 +7,10 @@ namespace tofcomp::io {
 
 YamlMap::YamlMap(const YAML::Node& node, std::string path,
                  std::initializer_list<std::string_view> allowed)
+    : YamlMap(node, std::move(path), std::span<const std::string_view>(allowed.begin(), allowed.size())) {}
+
+YamlMap::YamlMap(const YAML::Node& node, std::string path,
+                 std::span<const std::string_view> allowed)
     : node_(node), path_(std::move(path)) {
   if (!node_.IsMap()) {
     throw YamlSchemaError((path_.empty() ? std::string("the document") : path_) +

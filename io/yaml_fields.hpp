@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -25,6 +26,7 @@ class YamlMap {
   // Throws YamlSchemaError unless node is a mapping whose keys are all in `allowed`.
   YamlMap(const YAML::Node& node, std::string path,
           std::initializer_list<std::string_view> allowed);
+  YamlMap(const YAML::Node& node, std::string path, std::span<const std::string_view> allowed);
 
   bool has(std::string_view key) const;
   const std::string& path() const { return path_; }

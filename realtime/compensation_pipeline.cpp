@@ -10,6 +10,7 @@ void CompensationPipeline::restart_tracker() {
   if (!calibration_) return;
   tracker_.emplace(*calibration_, settings_.junction);
   if (power_) tracker_->set_power(power_->first, power_->second);
+  if (last_switch_on_s_) tracker_->set_last_switch_on(*last_switch_on_s_);
   if (last_reading_) tracker_->add_case_reading(last_reading_->first, last_reading_->second);
 }
 
@@ -43,6 +44,7 @@ void CompensationPipeline::on_case_reading(double time_s, double case_c) {
 }
 
 void CompensationPipeline::on_power(double time_s, bool on) {
+  if (on && !(power_ ? power_->second : true)) last_switch_on_s_ = time_s;
   power_ = {time_s, on};
   if (tracker_) tracker_->set_power(time_s, on);
 }

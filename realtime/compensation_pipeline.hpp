@@ -2,7 +2,7 @@
 // power changes and scans. tofcompd feeds it live; replay_recording (realtime/recording_replay.hpp)
 // feeds it a recording's rows, so that the two give the same outputs for the same events.
 // A calibration's model extension is applied by the scan compensator, with the junction
-// tracker's heating rate for an extension whose covariate it is.
+// tracker's heating rate or time since power-on for an extension whose covariate it is.
 #pragma once
 
 #include <cstdint>
@@ -55,6 +55,7 @@ class CompensationPipeline {
   std::optional<JunctionTracker> tracker_;
   std::optional<std::pair<double, double>> last_reading_;  // time_s, case_c
   std::optional<std::pair<double, bool>> power_;           // time_s of the last change, state
+  std::optional<double> last_switch_on_s_;
   std::uint64_t next_sequence_ = 0;
 };
 

@@ -47,6 +47,7 @@ void JunctionTracker::add_case_reading(double time_s, double case_c) {
 
 void JunctionTracker::set_power(double time_s, bool on) {
   advance_to(time_s);  // the interval before the change had the old state
+  if (on && !power_on_) powered_since_s_ = time_s;
   power_on_ = on;
 }
 
@@ -66,6 +67,7 @@ JunctionEstimate JunctionTracker::at(double time_s) const {
                                continuous_.b_power * (power_on_ ? 1.0 : 0.0) +
                                continuous_.b_ambient * calibration_.ambient_c;
   e.heating_rate_c_per_min = 60.0 * rate[1];
+  e.time_since_power_on_s = power_on_ ? std::max(0.0, time_s - powered_since_s_) : 0.0;
   return e;
 }
 

@@ -37,6 +37,9 @@ struct JunctionEstimate {
   // dt^j/dt in °C/min: Eq. 3's second line at the predicted state, power and ambient,
   // 60 · (u P / C1 + (t^c − t^j) / (R1 C1)) (the heating-hysteresis covariate).
   double heating_rate_c_per_min = 0.0;
+  // Seconds since the scanner's power was last switched on (since the clock's origin when it
+  // has been on throughout): the warm-up covariate.
+  double time_since_power_on_s = 0.0;
 };
 
 class JunctionTracker {
@@ -47,8 +50,11 @@ class JunctionTracker {
   // A valid case reading t^s at time_s. A reading older than the filter's time is taken at the
   // filter's time (a step of zero). Throws core::InvalidInput on a non-finite value.
   void add_case_reading(double time_s, double case_c);
-  // The scanner's power from time_s on.
+  // The scanner's power from time_s on (a switch-on restarts the time since power-on).
   void set_power(double time_s, bool on);
+  // The last switch-on happened at time_s, before this tracker existed (a tracker restarted
+  // on a new calibration keeps the scanner's warm-up clock).
+  void set_last_switch_on(double time_s) { powered_since_s_ = time_s; }
   // t^j predicted to time_s (never before the last reading).
   JunctionEstimate at(double time_s) const;
 
@@ -63,6 +69,7 @@ class JunctionTracker {
   double last_reading_time_s_ = 0.0;
   double last_case_c_ = 0.0;
   bool power_on_ = true;
+  double powered_since_s_ = 0.0;
 };
 
 }  // namespace tofcomp::realtime

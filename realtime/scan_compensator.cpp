@@ -27,16 +27,8 @@ core::ExtendedMixture noise_of(const io::Calibration& calibration) {
 double covariate_bias(const io::Calibration& calibration, double time_s,
                       const JunctionEstimate& junction) {
   if (!calibration.extension) return 0.0;
-  const core::ModelExtension& x = *calibration.extension;
-  switch (x.covariate) {
-    case core::Covariate::None:
-      return 0.0;
-    case core::Covariate::TimeHours:
-      return x.covariate_mm * (time_s / 3600.0);
-    case core::Covariate::HeatingRateCPerMinute:
-      return x.covariate_mm * junction.heating_rate_c_per_min;
-  }
-  return 0.0;
+  return calibration.extension->covariate_bias_at(time_s, junction.heating_rate_c_per_min,
+                                                  junction.time_since_power_on_s);
 }
 
 ScanCompensator::ScanCompensator(core::SlidingWindowOptions window) : window_options_(window) {}

@@ -8,7 +8,8 @@
 //
 // A calibration with a model extension (core/model_extension.hpp) is applied as offline
 // (cli/pipeline.cpp): the scan's bias gains γ·c, c the hours since the pipeline's clock origin
-// (RawScan::time_s / 3600) or the junction's heating rate (JunctionEstimate), and every window
+// (RawScan::time_s / 3600), the junction's heating rate or the warm-up exp(−t_on/τ) from the
+// time since the last power-on (both in JunctionEstimate), and every window
 // tests d under the extended noise, each range with the temperature bin of the scan's junction
 // estimate. A range the outlier component takes (P > 0.5) is flagged kBeamOutlier.
 #pragma once

@@ -43,6 +43,14 @@ struct TimeDrift {
   double mm_per_hour = 0.3;
 };
 
+// A transient after each power-on that is not the junction's temperature (Eq. 3 models that):
+// the laser driver and the receiver settle, + amplitude_mm × exp(−t_on / time_constant_s), t_on
+// the time since the scanner was last switched on (since t = 0 when it starts on).
+struct WarmUp {
+  double amplitude_mm = 3.0;
+  double time_constant_s = 300.0;
+};
+
 struct TwinEffects {
   std::optional<ModePersistence> mode_persistence;
   std::optional<TemperatureDependentWeights> temperature_dependent_weights;
@@ -50,10 +58,11 @@ struct TwinEffects {
   std::optional<Outliers> outliers;
   std::optional<HeatingHysteresis> heating_hysteresis;
   std::optional<TimeDrift> time_drift;
+  std::optional<WarmUp> warm_up;
 
   bool any() const {
     return mode_persistence || temperature_dependent_weights || temperature_dependent_spread ||
-           outliers || heating_hysteresis || time_drift;
+           outliers || heating_hysteresis || time_drift || warm_up;
   }
 };
 

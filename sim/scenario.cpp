@@ -81,6 +81,12 @@ void Scenario::validate() const {
             "effects.outliers.fraction", "must be in [0, 0.5]");
     require(effects.outliers->spread_mm > 0.0, "effects.outliers.spread_mm", "must be positive");
   }
+  if (effects.warm_up) {
+    require(std::isfinite(effects.warm_up->amplitude_mm), "effects.warm_up.amplitude_mm",
+            "must be finite");
+    require(effects.warm_up->time_constant_s > 0.0, "effects.warm_up.time_constant_s",
+            "must be positive");
+  }
   require(range_period_s >= 0.0, "range_period_s", "must be non-negative");
 }
 

@@ -114,16 +114,19 @@ ScannerOutput read_scanner(const YamlMap& parent) {
   return s;
 }
 
-// One optional effect: present → a sub-map with the effect's single parameter (or defaults).
+// One optional effect: present → a sub-map with the effect's parameters (each defaulted).
 template <typename Effect>
-std::optional<Effect> read_effect(const YamlMap& effects, const char* key, const char* parameter,
-                                  double Effect::*field) {
+std::optional<Effect> read_effect(
+    const YamlMap& effects, const char* key,
+    std::initializer_list<std::pair<const char*, double Effect::*>> parameters) {
   if (!effects.has(key)) return std::nullopt;
   Effect effect;
   const YAML::Node node = effects.node(key);
   if (node.IsNull()) return effect;
-  const YamlMap m(node, effects.child_path(key), {parameter});
-  effect.*field = m.number_or(parameter, effect.*field);
+  std::vector<std::string_view> names;
+  for (const auto& p : parameters) names.emplace_back(p.first);
+  const YamlMap m(node, effects.child_path(key), names);
+  for (const auto& [name, field] : parameters) effect.*field = m.number_or(name, effect.*field);
   return effect;
 }
 
@@ -132,27 +135,25 @@ TwinEffects read_effects(const YamlMap& parent) {
   if (!parent.has("effects")) return fx;
   const YamlMap m(parent.node("effects"), parent.child_path("effects"),
                   {"mode_persistence", "temperature_dependent_weights",
-                   "temperature_dependent_spread", "outliers", "heating_hysteresis", "time_drift"});
-  fx.mode_persistence =
-      read_effect(m, "mode_persistence", "stay_probability", &ModePersistence::stay_probability);
-  fx.temperature_dependent_weights =
-      read_effect(m, "temperature_dependent_weights", "log_odds_per_c",
-                  &TemperatureDependentWeights::log_odds_per_c);
-  fx.temperature_dependent_spread = read_effect(m, "temperature_dependent_spread", "relative_per_c",
-                                                &TemperatureDependentSpread::relative_per_c);
-  fx.heating_hysteresis = read_effect(m, "heating_hysteresis", "mm_per_c_per_min",
-                                      &HeatingHysteresis::mm_per_c_per_min);
-  fx.time_drift = read_effect(m, "time_drift", "mm_per_hour", &TimeDrift::mm_per_hour);
-  if (m.has("outliers")) {
-    Outliers o;
-    const YAML::Node node = m.node("outliers");
-    if (!node.IsNull()) {
-      const YamlMap om(node, m.child_path("outliers"), {"fraction", "spread_mm"});
-      o.fraction = om.number_or("fraction", o.fraction);
-      o.spread_mm = om.number_or("spread_mm", o.spread_mm);
-    }
-    fx.outliers = o;
-  }
+                   "temperature_dependent_spread", "outliers", "heating_hysteresis", "time_drift",
+                   "warm_up"});
+  fx.mode_persistence = read_effect<ModePersistence>(
+      m, "mode_persistence", {{"stay_probability", &ModePersistence::stay_probability}});
+  fx.temperature_dependent_weights = read_effect<TemperatureDependentWeights>(
+      m, "temperature_dependent_weights",
+      {{"log_odds_per_c", &TemperatureDependentWeights::log_odds_per_c}});
+  fx.temperature_dependent_spread = read_effect<TemperatureDependentSpread>(
+      m, "temperature_dependent_spread",
+      {{"relative_per_c", &TemperatureDependentSpread::relative_per_c}});
+  fx.outliers = read_effect<Outliers>(
+      m, "outliers", {{"fraction", &Outliers::fraction}, {"spread_mm", &Outliers::spread_mm}});
+  fx.heating_hysteresis = read_effect<HeatingHysteresis>(
+      m, "heating_hysteresis", {{"mm_per_c_per_min", &HeatingHysteresis::mm_per_c_per_min}});
+  fx.time_drift =
+      read_effect<TimeDrift>(m, "time_drift", {{"mm_per_hour", &TimeDrift::mm_per_hour}});
+  fx.warm_up = read_effect<WarmUp>(
+      m, "warm_up",
+      {{"amplitude_mm", &WarmUp::amplitude_mm}, {"time_constant_s", &WarmUp::time_constant_s}});
   return fx;
 }
 

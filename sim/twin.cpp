@@ -47,6 +47,22 @@ Twin::Twin(Scenario scenario)
   const double start_c =
       std::isnan(scenario_.initial_case_c) ? scenario_.ambient.at(0.0) : scenario_.initial_case_c;
   state_ = Eigen::Vector2d::Constant(start_c);
+  was_on_ = power_on();
+}
+
+void Twin::note_power() {
+  const bool on = power_on();
+  if (on && !was_on_) powered_since_s_ = time_s_;
+  was_on_ = on;
+}
+
+void Twin::set_power_override(std::optional<bool> on) {
+  power_override_ = on;
+  note_power();
+}
+
+double Twin::time_since_power_on_s() const {
+  return was_on_ ? time_s_ - powered_since_s_ : 0.0;
 }
 
 bool Twin::power_on() const {
@@ -72,6 +88,7 @@ void Twin::advance_to(double time_s) {
           model.a * state_ + model.b_power * (power.on ? 1.0 : 0.0) + model.b_ambient * ambient;
     }
     time_s_ = end;
+    note_power();
   }
 }
 
@@ -114,6 +131,10 @@ RangeReading Twin::measure(int beam) {
     r.bias_mm += fx.heating_hysteresis->mm_per_c_per_min * 60.0 * junction_rate_c_per_s();
   }
   if (fx.time_drift) r.bias_mm += fx.time_drift->mm_per_hour * time_s_ / 3600.0;
+  if (fx.warm_up) {
+    r.bias_mm += fx.warm_up->amplitude_mm *
+                 std::exp(-time_since_power_on_s() / fx.warm_up->time_constant_s);
+  }
   r.mode = draw_mode();
   last_mode_ = r.mode;
   const LasingMode& mode = scenario_.modes[static_cast<std::size_t>(r.mode)];

@@ -42,7 +42,9 @@ class Twin {
   void advance_to(double time_s);
   // From now on the scanner's power is `on` whatever the schedule says (the laser's heat input
   // u of Eq. 4 is 0 while off), as when a host switches the supply; nullopt: the schedule again.
-  void set_power_override(std::optional<bool> on) { power_override_ = on; }
+  void set_power_override(std::optional<bool> on);
+  // Seconds since the scanner was last switched on (since t = 0 when it started on); 0 while off.
+  double time_since_power_on_s() const;
 
   // A case-sensor reading now: the case temperature plus noise, quantized to the resolution.
   double read_case_sensor();
@@ -68,8 +70,12 @@ class Twin {
   std::optional<bool> power_override_;
   Eigen::Vector2d state_;
   int last_mode_ = -1;
+  bool was_on_ = false;
+  double powered_since_s_ = 0.0;
 
   int draw_mode();
+  // Notes a power-on at the current time.
+  void note_power();
 };
 
 // The single-beam series of one scenario, as a logger records it.

@@ -87,7 +87,8 @@ def load_report_data(directory):
     samples_path = os.path.join(data_dir, "samples.csv")
     samples = read_table(samples_path)
     require_columns(samples, samples_path,
-                    ["time_s", "range_mm", "junction_c", "bias_mm", "compensated_mm",
+                    ["time_s", "time_since_power_on_s", "range_mm", "junction_c", "bias_mm",
+                     "compensated_mm",
                      "true_range_mm"])
     windows = {}
     for length in sorted(set(context.get("windows", [])) | set(context.get("moment_windows", []))):

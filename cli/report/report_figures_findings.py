@@ -1,5 +1,5 @@
 """The figure of each finding of the diagnosis (core/residual_diagnosis.hpp): what each of the
-eight tests measures, drawn on the held-out ranges of the report (DIR/data/samples.csv).
+nine tests measures, drawn on the held-out ranges of the report (DIR/data/samples.csv).
 
 The diagnosis itself ran on the whole record with a model trained on all of it; the figures are
 drawn on the held-out half with the model trained on the first half (the report's split), so
@@ -7,7 +7,8 @@ they show the effect a test measures, and the statistic and p-value are the test
 quantities the tests use are computed here from samples.csv exactly as the diagnosis computes
 them: the residual y − d − Hθ̂, the most probable mode under the trained mixture (Eq. 18, with
 the true distance d, as the diagnosis does), e = y − d − Hθ̂ − μ̂ of that mode, and the
-junction's heating rate as the least-squares slope of t̂ʲ over ±30 s. Each function draws one
+junction's heating rate as the least-squares slope of t̂ʲ over ±30 s, the time since the last
+power-on from the data's power column. Each function draws one
 PNG into DIR/figures/ and returns a report_style.Figure, or None when the data do not allow it.
 """
 
@@ -23,6 +24,8 @@ from report_style import (MODE_COLOURS, Figure, histogram_bins, legend_right, pl
 RATE_HALF_WINDOW_S = 30.0  # cli/pipeline.cpp: kRateHalfWindowS
 TAIL_Z = 8.0  # core/residual_diagnosis.hpp: DiagnosisOptions::tail_z
 LAGS = 20  # core/residual_diagnosis.hpp: DiagnosisOptions::ljung_box_lags
+WARM_UP_TIME_CONSTANTS_S = [30.0, 60.0, 120.0, 240.0, 480.0, 960.0, 1920.0]  # core/warm_up.hpp
+WARM_UP_EDGES_S = [0.0, 15.0, 30.0, 60.0, 120.0, 240.0, 480.0, 960.0, 1920.0, math.inf]
 TAIL_LEVELS = [0.93, 0.96, 0.98, 0.99, 0.995, 0.998, 1.0]  # heating-rate quantiles, the tail
 HELD_OUT = ("Drawn on the held-out ranges with the model trained on the first half; the test "
             "ran on the whole record.")
@@ -33,6 +36,7 @@ class Residuals:
 
     def __init__(self, samples, modes):
         self.time_s = samples["time_s"]
+        self.time_since_power_on_s = samples["time_since_power_on_s"]
         self.junction_c = samples["junction_c"]
         self.residual = samples["range_mm"] - samples["true_range_mm"] - samples["bias_mm"]
         self.mu = np.array([m["offset_mm"] for m in modes], dtype=float)
@@ -351,6 +355,47 @@ def time_drift(r, directory, name):
                   f"from zero is the first half's model missing the second half. {HELD_OUT}")
 
 
+def warm_up(r, directory, name):
+    t_on = r.time_since_power_on_s
+    if np.ptp(t_on) <= 0.0:
+        return None
+    edges = np.array(WARM_UP_EDGES_S)
+    edges[-1] = max(float(np.max(t_on)), edges[-2] + 1.0)
+    # The curve the test found: e's least-squares fit a + γ·exp(−t_on/τ) for the τ of the grid
+    # whose covariate correlates best with e.
+    best = max(WARM_UP_TIME_CONSTANTS_S,
+               key=lambda tau: abs(np.corrcoef(np.exp(-t_on / tau), r.e)[0, 1]))
+    gamma, level = np.polyfit(np.exp(-t_on / best), r.e, 1)
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    ax.set_xscale("symlog", linthresh=15.0, linscale=0.6)
+    for values, text, colour, marker in (
+            (r.e, "e (the tested residual)", "#1f4e9c", "o"),
+            (r.residual - np.mean(r.residual), r"$y - d - H\hat{\theta}$ less its mean",
+             "#e9a03b", "s")):
+        centre, mean, half_width = binned_means(t_on, values, edges, 10)
+        ax.errorbar(centre, mean, yerr=half_width, marker=marker, capsize=3, linestyle="none",
+                    color=colour, label=f"{text}: bin means (95 % interval)")
+    grid = np.linspace(0.0, edges[-1], 800)
+    ax.plot(grid, level + gamma * np.exp(-grid / best), color="#1f4e9c", linewidth=1.2,
+            label=f"e: {level:+.2f} {gamma:+.2f}·exp(−t/{best:g} s)")
+    ax.axhline(0.0, color="k", linewidth=0.8)
+    ax.set_xlabel("time since the last power-on (s)")
+    ax.set_ylabel("residual (mm)")
+    ax.set_title("Residual against the time since power-on")
+    legend_right(ax)
+    return Figure("correlation of e with exp(−t_on/τ), the best τ of the grid",
+                  save(fig, directory, name),
+                  f"In blue, the mean of the mode-compensated residual e = y − d − Hθ̂ − μ̂ of "
+                  f"each range's most probable mode (the residual the test correlates) in bins "
+                  f"of the time since the scanner was last switched on (0–15 s, then doubling "
+                  f"up to 32 min, then the rest; the axis is linear up to 15 s, logarithmic "
+                  f"beyond), with e's least-squares fit to exp(−t_on/τ) for the τ of the grid "
+                  f"30 s … 32 min that correlates best ({best:g} s, γ = {gamma:+.2f} mm). "
+                  f"{BOTH_RESIDUALS} Look for: the first minutes after a power-on away from the "
+                  f"rest, a transient the junction's temperature does not explain; points level "
+                  f"within their intervals mean no warm-up. {HELD_OUT}")
+
+
 def extra_mode(r, directory, name):
     width = r.step_mm
     edges = histogram_bins(r.residual, width)
@@ -425,6 +470,7 @@ FINDING_FIGURES = {
     "outliers": outliers,
     "heating hysteresis": heating_hysteresis,
     "time drift": time_drift,
+    "warm-up after power-on": warm_up,
     "one more lasing mode": extra_mode,
     "serial dependence": serial_dependence,
 }

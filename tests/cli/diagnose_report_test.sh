@@ -133,7 +133,7 @@ python3 - "$work/diagnosis.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["named"] == "time drift" and d["extension"]["kept"], d
-assert len(d["findings"]) == 8, d  # so the page above carries all eight finding figures
+assert len(d["findings"]) == 9, d  # so the page above carries all nine finding figures
 PY
 
 # The renderer alone on the shape the diagnosis JSON is moving to, and on a diagnosis that

@@ -131,6 +131,7 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"effect-outliers", core::EffectKind::Outliers, 5.0},
         Case{"effect-time-drift", core::EffectKind::TimeDrift, 10.0},
         Case{"effect-heating-hysteresis", core::EffectKind::HeatingHysteresis, 1.3},
+        Case{"effect-warm-up", core::EffectKind::WarmUp, 1.8},
         Case{"effect-mode-persistence", core::EffectKind::ModePersistence, 1.1},
         Case{"effect-temperature-weights", core::EffectKind::TemperatureDependentWeights, 1.02},
         Case{"effect-temperature-spread", core::EffectKind::TemperatureDependentSpread, 0.98},

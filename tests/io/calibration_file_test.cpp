@@ -135,6 +135,20 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   c.extension = chain;
   write_calibration_file(file, c);
   EXPECT_EQ(read_calibration_file(file).extension->noise.transition, chain.noise.transition);
+
+  core::ModelExtension warm_up;
+  warm_up.effect = core::EffectKind::WarmUp;
+  warm_up.covariate = core::Covariate::WarmUp;
+  warm_up.covariate_mm = 2.875;
+  warm_up.time_constant_s = 1000.0 / 3.0;
+  warm_up.noise = core::without_extensions(c.model.noise);
+  c.extension = warm_up;
+  write_calibration_file(file, c);
+  const Calibration warm = read_calibration_file(file);
+  EXPECT_EQ(warm.extension->effect, core::EffectKind::WarmUp);
+  EXPECT_EQ(warm.extension->covariate, core::Covariate::WarmUp);
+  EXPECT_EQ(warm.extension->covariate_mm, warm_up.covariate_mm);
+  EXPECT_EQ(warm.extension->time_constant_s, warm_up.time_constant_s);
   // A file without the section is the paper's model.
   EXPECT_FALSE(read_calibration_file([&] {
                  write_calibration_file(file, example());
@@ -165,6 +179,15 @@ TEST(CalibrationFile, ExtensionErrorsNameTheKey) {
             std::string::npos);
   EXPECT_NE(error_of(replaced(good, "covariate_mm", "covariate_inch")).find("covariate_inch"),
             std::string::npos);
+  // The warm-up's time constant: required with it, refused without it.
+  EXPECT_NE(error_of(replaced(good, "covariate: none", "covariate: warm_up"))
+                .find("extension.time_constant_s"),
+            std::string::npos)
+      << error_of(replaced(good, "covariate: none", "covariate: warm_up"));
+  EXPECT_NE(error_of(replaced(good, "covariate: none", "covariate: none\n  time_constant_s: 60"))
+                .find("time_constant_s belongs to the warm_up covariate only"),
+            std::string::npos)
+      << error_of(replaced(good, "covariate: none", "covariate: none\n  time_constant_s: 60"));
 }
 
 TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {

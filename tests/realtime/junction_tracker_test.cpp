@@ -73,5 +73,20 @@ TEST(JunctionTracker, HeatingRateIsTheThermalModels) {
   EXPECT_NEAR(tracker.at(640.5).heating_rate_c_per_min, -36.0, 0.5);
 }
 
+// The warm-up covariate's clock: since the clock's origin while the power has been on
+// throughout, 0 while off, and from the last switch-on after it (a repeated "on" is no switch-on).
+TEST(JunctionTracker, TimeSincePowerOnRestartsAtEachSwitchOn) {
+  JunctionTracker tracker(testing::round_calibration());
+  tracker.add_case_reading(0.0, 30.0);
+  EXPECT_DOUBLE_EQ(tracker.at(100.0).time_since_power_on_s, 100.0);
+  tracker.set_power(100.0, true);
+  EXPECT_DOUBLE_EQ(tracker.at(150.0).time_since_power_on_s, 150.0);
+  tracker.set_power(200.0, false);
+  EXPECT_DOUBLE_EQ(tracker.at(250.0).time_since_power_on_s, 0.0);
+  tracker.set_power(300.0, true);
+  EXPECT_DOUBLE_EQ(tracker.at(300.0).time_since_power_on_s, 0.0);
+  EXPECT_DOUBLE_EQ(tracker.at(342.5).time_since_power_on_s, 42.5);
+}
+
 }  // namespace
 }  // namespace tofcomp::realtime

@@ -185,6 +185,17 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
     EXPECT_DOUBLE_EQ(out.beams[0].compensated_mm, 3000.0);
   }
   {
+    auto c = with_extension(core::EffectKind::WarmUp, core::Covariate::WarmUp, 3.0);
+    c->extension->time_constant_s = 200.0;
+    ScanCompensator compensator(incremental());
+    compensator.set_calibration(c, 1);
+    JunctionEstimate warming = junction_at(26.0);
+    warming.time_since_power_on_s = 200.0 * std::log(3.0);  // γ·exp(−t_on/τ) = 1 mm
+    scan.ranges_mm = {3000.0 + 14.0 - 2.0};
+    const ipc::CompensatedScan out = compensator.compensate(scan, warming, 0);
+    EXPECT_NEAR(out.beams[0].compensated_mm, 3000.0, 1e-9);
+  }
+  {
     auto c = with_extension(core::EffectKind::Outliers, core::Covariate::None, 0.0);
     c->extension->noise.outlier_weight = 0.02;
     c->extension->noise.outlier_density = 1.0 / 200.0;

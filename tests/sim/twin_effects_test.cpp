@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "sim/scenario_yaml.hpp"
 #include "sim/twin.hpp"
@@ -54,6 +55,36 @@ TEST(TwinEffects, TimeDriftAddsToTheBias) {
   for (const auto& r : simulate_series(s).ranges) {
     ASSERT_NEAR(r.bias_mm - s.bias.at(r.junction_c), 0.5 * r.time_s / 3600.0, 1e-9);
   }
+}
+
+// The warm-up scenario's schedule: on 1 h, off 5 min, on 1 h, off 40 min, on 1 h, off 20 min,
+// twice. The transient is amplitude·exp(−t_on/τ) from each switch-on, which the series knows
+// only through the schedule: computed here from it.
+TEST(TwinEffects, WarmUpDecaysFromEachPowerOn) {
+  const Scenario s = with("effect-warm-up.yaml");
+  const double pauses[] = {300.0, 2400.0, 1200.0};
+  std::vector<double> switch_on{0.0};
+  for (int i = 0; i < 5; ++i) switch_on.push_back(switch_on.back() + 3600.0 + pauses[i % 3]);
+  for (const auto& r : simulate_series(s).ranges) {
+    double last_on = 0.0;
+    for (const double t : switch_on) last_on = t <= r.time_s ? t : last_on;
+    ASSERT_NEAR(r.bias_mm - s.bias.at(r.junction_c), 3.0 * std::exp(-(r.time_s - last_on) / 300.0),
+                1e-9)
+        << "at " << r.time_s << " s";
+  }
+}
+
+// The twin's clock of the warm-up follows a power override as it follows the schedule.
+TEST(TwinEffects, TimeSincePowerOnFollowsTheOverride) {
+  Twin twin(with("default.yaml"));
+  twin.advance_to(100.0);
+  EXPECT_DOUBLE_EQ(twin.time_since_power_on_s(), 100.0);
+  twin.set_power_override(false);
+  twin.advance_to(200.0);
+  EXPECT_DOUBLE_EQ(twin.time_since_power_on_s(), 0.0);
+  twin.set_power_override(true);
+  twin.advance_to(230.0);
+  EXPECT_DOUBLE_EQ(twin.time_since_power_on_s(), 30.0);
 }
 
 // Heating (just after a power-on) adds to the bias; the extra term is k·60·dt^j/dt ≥ 0 while on.
