@@ -87,7 +87,11 @@ std::string extension_text(const ExtensionReport& e) {
   }
   text += e.kept ? fmt::format("kept: held-out MAE of d hat cut by a factor {:.2f}\n",
                                e.mean_absolute_error_factor())
-                 : "not kept: no gain on the held-out data\n";
+                 : fmt::format(
+                       "not kept: held-out log-likelihood gain {:.1f}, MAE of d hat factor {:.3f} "
+                       "(kept when the gain is positive and the factor at least {:.2f})\n",
+                       e.held_out_log_likelihood_gain(), e.mean_absolute_error_factor(),
+                       kMinimumMaeFactor);
   return text;
 }
 

@@ -302,7 +302,8 @@ ExtensionReport judge(core::EffectKind named, const Fit& fit, const Training& ba
   r.held_out_log_likelihood_before = held_out_log_likelihood(test, base.calibration, before);
   r.held_out_log_likelihood_after = held_out_log_likelihood(test, r.calibration, after);
   r.errors = compare_windows(test, base.calibration, before, r.calibration, after, windows, stride);
-  r.kept = r.held_out_log_likelihood_gain() > 0.0 && r.mean_absolute_error_factor() > 1.0;
+  r.kept = r.held_out_log_likelihood_gain() > 0.0 &&
+           r.mean_absolute_error_factor() >= kMinimumMaeFactor;
   return r;
 }
 

@@ -207,8 +207,7 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
   d.findings.push_back(make(EffectKind::TimeDrift, "correlation", "time",
                             correlation_test(in.time_s, d.compensated)));
   d.findings.push_back(
-      make(EffectKind::WarmUp, "best correlation over 7 time constants (Bonferroni)",
-           "exp(-time since power-on / tau), tau 30 s..32 min",
+      make(EffectKind::WarmUp, "max correlation, 7 taus", "exp(-time since power-on / tau)",
            best_correlation_test(warm_up_covariates(in.time_since_power_on_s), d.compensated)));
   d.findings.push_back(make(
       EffectKind::SerialDependence, "Ljung-Box", "lags 1..20",

@@ -86,7 +86,8 @@ def summary_section(diagnosis):
     elif extension.get("kept"):
         kept = f"Extension kept: {_e(extension.get('model', extension.get('effect', '')))}."
     else:
-        kept = "The extension fitted was not kept: it did not lower the held-out error."
+        kept = ("The extension fitted was not kept: it did not both raise the held-out "
+                "likelihood and cut the held-out MAE of d̂ by at least 1 %.")
     return f'<p class="summary">{lacks} {kept}</p>'
 
 
@@ -183,7 +184,9 @@ def extension_section(diagnosis):
                else "the diagnosis names no effect")
         parts.append(f"<p>None kept: {why}.</p>")
         return "\n".join(parts)
-    verdict = "kept" if extension.get("kept") else "not kept: it did not lower the held-out error"
+    verdict = ("kept" if extension.get("kept") else
+               "not kept: it did not both raise the held-out likelihood and cut the held-out "
+               "MAE of d̂ by at least 1 %")
     parts.append(f"<p>For <b>{_e(extension.get('effect', '–'))}</b>: "
                  f"{_e(extension.get('model', '–'))}; {verdict}.</p>")
     parameters = extension.get("parameters") or {}
