@@ -51,7 +51,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       result.text = diagnosis_text(d);
       if (d.findings.empty() || !d.findings.front().significant) {
         progress.done();
-        report->write_if_requested(measured, training->settings(), result.json, lengths,
+        report->write_if_requested(measured, training->settings(), result.json, c, lengths,
                                    !common.quiet);
         return result;
       }
@@ -69,7 +69,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
         io::write_calibration_file(*calibration_out, e.calibration);
         result.text += fmt::format("extended calibration written to {}\n", *calibration_out);
       }
-      report->write_if_requested(measured, training->settings(), result.json, lengths,
+      report->write_if_requested(measured, training->settings(), result.json, c, lengths,
                                  !common.quiet);
       return result;
     };

@@ -41,11 +41,27 @@ std::vector<Eigen::Index> fitting_windows(std::vector<Eigen::Index> wanted, Eige
   return wanted;
 }
 
+// What the diagnosis tested, range by range over the whole record (cli/pipeline.cpp, diagnose):
+// the bias under the calibration it ran under (an extension's covariate included) and the time
+// since the last power-on; the findings' figures recompute the residuals from it.
+std::string diagnosis_samples_csv(const MeasuredData& measured, const io::Calibration& diagnosed) {
+  const Compensation compensation = compensate(measured, diagnosed);
+  const Eigen::VectorXd time_since_power_on_s = measured.time_since_power_on();
+  std::string out = "time_s,time_since_power_on_s,range_mm,true_range_mm,junction_c,bias_mm\n";
+  for (Eigen::Index k = 0; k < measured.range_mm.size(); ++k) {
+    out += fmt::format("{},{},{},{},{},{}\n", measured.range_time_s[k], time_since_power_on_s[k],
+                       measured.range_mm[k], measured.true_range_mm[k],
+                       compensation.junction.junction_c[k], compensation.bias_mm[k]);
+  }
+  return out;
+}
+
 }  // namespace
 
 void write_diagnosis_report(const std::string& directory, const MeasuredData& measured,
                             const TrainSettings& settings, const nlohmann::json& diagnosis,
-                            const ReportSettings& report, bool show_progress) {
+                            const io::Calibration& diagnosed, const ReportSettings& report,
+                            bool show_progress) {
   const std::filesystem::path dir = make_report_directory(directory);
   const ReportRenderer renderer = find_report_renderer();
   const std::filesystem::path data_dir = dir / "data";
@@ -104,12 +120,15 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
                                   {"stride", report.stride},
                                   {"thermal_fit", to_json(t.thermal)},
                                   {"calibration", to_json(t.calibration)},
+                                  {"diagnosis_calibration", to_json(diagnosed)},
                                   {"em_training_iterations", t.em.iterations},
                                   {"glr", glr},
                                   {"em_test_trace", trace},
                                   {"em_test_cost", cost}};
   io::write_file_atomically(data_dir / "context.json", context.dump(2) + "\n");
   io::write_file_atomically(data_dir / "diagnosis.json", diagnosis.dump(2) + "\n");
+  io::write_file_atomically(data_dir / "diagnosis_samples.csv",
+                            diagnosis_samples_csv(measured, diagnosed));
 
   progress.update(0.9, "drawing the figures");
   renderer.render(dir, show_progress);

@@ -6,12 +6,14 @@ namespace tofcomp::cli {
 
 void ReportOptions::write_if_requested(const MeasuredData& measured, const TrainSettings& settings,
                                        const nlohmann::json& diagnosis,
+                                       const io::Calibration& diagnosed,
                                        const std::vector<Eigen::Index>& windows,
                                        bool show_progress) const {
   if (directory.empty()) return;
   ReportSettings report;
   report.windows = windows;
-  write_diagnosis_report(directory, measured, settings, diagnosis, report, show_progress);
+  write_diagnosis_report(directory, measured, settings, diagnosis, diagnosed, report,
+                         show_progress);
 }
 
 std::shared_ptr<ReportOptions> add_report_options(CLI::App& cmd) {

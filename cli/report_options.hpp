@@ -19,8 +19,8 @@ struct ReportOptions {
   // Writes the report of `diagnosis` into `directory` when one was asked for; otherwise nothing.
   // `windows`: the lengths of Fig. 16-17 and of the error table (diagnose's --windows).
   void write_if_requested(const MeasuredData& measured, const TrainSettings& settings,
-                          const nlohmann::json& diagnosis, const std::vector<Eigen::Index>& windows,
-                          bool show_progress) const;
+                          const nlohmann::json& diagnosis, const io::Calibration& diagnosed,
+                          const std::vector<Eigen::Index>& windows, bool show_progress) const;
 };
 
 // Adds --report DIR to cmd.

@@ -64,6 +64,7 @@ class ReportData:
     context: dict
     diagnosis: dict
     samples: dict
+    diagnosis_samples: dict  # the whole record under the calibration the diagnosis ran under
     windows: dict = field(default_factory=dict)  # window length -> table
     thermal_fit: dict = None
     em_convergence: dict = None
@@ -87,9 +88,13 @@ def load_report_data(directory):
     samples_path = os.path.join(data_dir, "samples.csv")
     samples = read_table(samples_path)
     require_columns(samples, samples_path,
-                    ["time_s", "time_since_power_on_s", "range_mm", "junction_c", "bias_mm",
-                     "compensated_mm",
+                    ["time_s", "range_mm", "junction_c", "bias_mm", "compensated_mm",
                      "true_range_mm"])
+    diagnosis_samples_path = os.path.join(data_dir, "diagnosis_samples.csv")
+    diagnosis_samples = read_table(diagnosis_samples_path)
+    require_columns(diagnosis_samples, diagnosis_samples_path,
+                    ["time_s", "time_since_power_on_s", "range_mm", "true_range_mm",
+                     "junction_c", "bias_mm"])
     windows = {}
     for length in sorted(set(context.get("windows", [])) | set(context.get("moment_windows", []))):
         table = _optional_table(data_dir, f"windows_{length}.csv")
@@ -100,6 +105,7 @@ def load_report_data(directory):
         context=context,
         diagnosis=diagnosis,
         samples=samples,
+        diagnosis_samples=diagnosis_samples,
         windows=windows,
         thermal_fit=_optional_table(data_dir, "thermal_fit.csv"),
         em_convergence=_optional_table(data_dir, "em_convergence.csv"),

@@ -1,15 +1,12 @@
 """The figure of each finding of the diagnosis (core/residual_diagnosis.hpp): what each of the
-nine tests measures, drawn on the held-out ranges of the report (DIR/data/samples.csv).
-
-The diagnosis itself ran on the whole record with a model trained on all of it; the figures are
-drawn on the held-out half with the model trained on the first half (the report's split), so
-they show the effect a test measures, and the statistic and p-value are the test's. The
-quantities the tests use are computed here from samples.csv exactly as the diagnosis computes
-them: the residual y − d − Hθ̂, the most probable mode under the trained mixture (Eq. 18, with
-the true distance d, as the diagnosis does), e = y − d − Hθ̂ − μ̂ of that mode, and the
-junction's heating rate as the least-squares slope of t̂ʲ over ±30 s, the time since the last
-power-on from the data's power column. Each function draws one
-PNG into DIR/figures/ and returns a report_style.Figure, or None when the data do not allow it.
+nine tests measures, drawn on what the test ran on: the whole record under the calibration the
+diagnosis used (DIR/data/diagnosis_samples.csv and the context's diagnosis_calibration). The
+quantities the tests use are computed here exactly as the diagnosis computes them: the residual
+y − d − Hθ̂ (an extension's covariate term in Hθ̂), the most probable mode under the mixture
+(Eq. 18, with the true distance d, as the diagnosis does), e = y − d − Hθ̂ − μ̂ of that mode,
+the junction's heating rate as the least-squares slope of t̂ʲ over ±30 s, and the time since
+the last power-on from the data's power column. Each function draws one PNG into DIR/figures/
+and returns a report_style.Figure, or None when the data do not allow it.
 """
 
 import math
@@ -19,7 +16,7 @@ import re
 import numpy as np
 
 from report_style import (MODE_COLOURS, Figure, histogram_bins, legend_right, plt,
-                          resolution_mm, save, trained_modes)
+                          resolution_mm, save)
 
 RATE_HALF_WINDOW_S = 30.0  # cli/pipeline.cpp: kRateHalfWindowS
 TAIL_Z = 8.0  # core/residual_diagnosis.hpp: DiagnosisOptions::tail_z
@@ -27,12 +24,12 @@ LAGS = 20  # core/residual_diagnosis.hpp: DiagnosisOptions::ljung_box_lags
 WARM_UP_TIME_CONSTANTS_S = [30.0, 60.0, 120.0, 240.0, 480.0, 960.0, 1920.0]  # core/warm_up.hpp
 WARM_UP_EDGES_S = [0.0, 15.0, 30.0, 60.0, 120.0, 240.0, 480.0, 960.0, 1920.0, math.inf]
 TAIL_LEVELS = [0.93, 0.96, 0.98, 0.99, 0.995, 0.998, 1.0]  # heating-rate quantiles, the tail
-HELD_OUT = ("Drawn on the held-out ranges with the model trained on the first half; the test "
-            "ran on the whole record.")
+ON_THE_RECORD = ("Drawn on the whole record under the calibration the diagnosis used, the ranges "
+            "the test ran on.")
 
 
 class Residuals:
-    """The quantities of core/residual_diagnosis.cpp on the report's held-out ranges."""
+    """The quantities of core/residual_diagnosis.cpp on the ranges the diagnosis tested."""
 
     def __init__(self, samples, modes):
         self.time_s = samples["time_s"]
@@ -162,7 +159,7 @@ def mode_persistence(r, directory, name):
                   f"lag. These ranges have {runs} runs "
                   f"where independent draws would give about {expected_runs:.0f}. "
                   f"The most probable mode is recomputed from samples.csv under the trained "
-                  f"mixture, as the diagnosis does. {HELD_OUT}")
+                  f"mixture, as the diagnosis does. {ON_THE_RECORD}")
 
 
 def temperature_dependent_weights(r, directory, name):
@@ -203,7 +200,7 @@ def temperature_dependent_weights(r, directory, name):
                   "binomial intervals; dashed, each mode's share over all ranges. Look for: "
                   "shares that climb or fall across the quartiles, beyond their intervals, mean "
                   "weights that depend on temperature; flat shares on the dashed lines mean they "
-                  f"do not. {HELD_OUT}")
+                  f"do not. {ON_THE_RECORD}")
 
 
 def temperature_dependent_spread(r, directory, name):
@@ -240,7 +237,7 @@ def temperature_dependent_spread(r, directory, name):
                   f"not move, as the test's ranks are not), against the trained σ̂ of each mode "
                   f"(dashed). Look for: a spread that rises or falls with temperature; level "
                   f"points on the dashed lines mean the mode variances do not depend on it. "
-                  f"{HELD_OUT}")
+                  f"{ON_THE_RECORD}")
 
 
 def outliers(r, directory, name):
@@ -274,7 +271,7 @@ def outliers(r, directory, name):
                   f"1.4826 × the median of their absolute values (a scale outliers cannot "
                   f"inflate), on a log count axis against the standard normal. Look for: counts "
                   f"beyond the dashed ±{TAIL_Z:g} σ bounds, where Gaussian modes would put "
-                  f"{expected:.1g} of these {r.n} ranges; here {beyond} lie beyond. {HELD_OUT}")
+                  f"{expected:.1g} of these {r.n} ranges; here {beyond} lie beyond. {ON_THE_RECORD}")
 
 
 def _binned_residual(r, x, edges, xlabel, unit, title, directory, name, linear_up_to=None,
@@ -335,7 +332,7 @@ def heating_hysteresis(r, directory, name):
                   f"line ({slopes[0]:+.3f} mm per °C/min). {BOTH_RESIDUALS} Look for: a slope, "
                   f"a range that depends on whether the junction heats or cools at the same "
                   f"temperature; level points within their intervals mean no hysteresis. "
-                  f"{HELD_OUT}")
+                  f"{ON_THE_RECORD}")
 
 
 def time_drift(r, directory, name):
@@ -351,8 +348,7 @@ def time_drift(r, directory, name):
                   f"equal-count bins of time, with the least-squares line ({slopes[0]:+.3f} "
                   f"mm/h). {BOTH_RESIDUALS} Look for: a trend with time that the temperature "
                   f"does not explain ({slopes[1]:+.3f} mm/h with the mode left in); points "
-                  f"about a level line within their intervals mean no drift. A level of e away "
-                  f"from zero is the first half's model missing the second half. {HELD_OUT}")
+                  f"about a level line within their intervals mean no drift. {ON_THE_RECORD}")
 
 
 def warm_up(r, directory, name):
@@ -393,7 +389,7 @@ def warm_up(r, directory, name):
                   f"30 s … 32 min that correlates best ({best:g} s, γ = {gamma:+.2f} mm). "
                   f"{BOTH_RESIDUALS} Look for: the first minutes after a power-on away from the "
                   f"rest, a transient the junction's temperature does not explain; points level "
-                  f"within their intervals mean no warm-up. {HELD_OUT}")
+                  f"within their intervals mean no warm-up. {ON_THE_RECORD}")
 
 
 def extra_mode(r, directory, name):
@@ -436,7 +432,7 @@ def extra_mode(r, directory, name):
                   f"differences away from the trained offsets, where a missing mode sits; "
                   f"differences within ±2 mean the modes suffice. The statistic is the log of "
                   f"the split likelihood ratio, the held-out log-likelihood gain of M + 1 modes "
-                  f"over M. {HELD_OUT}")
+                  f"over M. {ON_THE_RECORD}")
 
 
 def serial_dependence(r, directory, name):
@@ -459,7 +455,7 @@ def serial_dependence(r, directory, name):
                   f"lags 1..{LAGS} ranges, with the ±1.96/√n band of white noise (n = {r.n}). "
                   f"Look for: bars outside the band, above all at the first lags: structure in "
                   f"time the model lacks (a drift, a hysteresis or a persistent mode each show "
-                  f"here too); bars inside the band mean independent residuals. {HELD_OUT}")
+                  f"here too); bars inside the band mean independent residuals. {ON_THE_RECORD}")
 
 
 # The effect names of core::effect_name and the function that draws each one's figure.
@@ -487,8 +483,8 @@ def draw_finding_figures(data, directory, progress):
     figures_dir = os.path.join(directory, "figures")
     os.makedirs(figures_dir, exist_ok=True)
     findings = data.diagnosis.get("findings") or []
-    modes = trained_modes(data.context)
-    residuals = Residuals(data.samples, modes) if modes else None
+    modes = data.context.get("diagnosis_calibration", {}).get("modes", [])
+    residuals = Residuals(data.diagnosis_samples, modes) if modes else None
     drawn = {}
     for i, finding in enumerate(findings):
         effect = finding.get("effect")

@@ -129,6 +129,19 @@ all_figures=3,4,8,9,10,11,12,13,14,15,16,17,18,19
 python3 "$work/check_report.py" "$work/report" "$work/diagnosis.json" "$all_figures"
 cmp <(python3 -m json.tool --sort-keys "$work/diagnosis.json") \
     <(python3 -m json.tool --sort-keys "$work/report/data/diagnosis.json")
+# The findings' figures are drawn on what the tests ran on: every range of the record, under
+# the calibration the diagnosis trained on all of it (not the report's first half).
+python3 - "$work/drift.csv" "$work/report/data" <<'PY'
+import csv, json, sys
+with open(sys.argv[1]) as f:
+    rows = csv.DictReader(line for line in f if not line.startswith("#"))
+    ranges = sum(1 for r in rows if r["range_mm"])
+with open(f"{sys.argv[2]}/diagnosis_samples.csv") as f:
+    tested = sum(1 for _ in f) - 1
+assert tested == ranges, (tested, ranges)
+context = json.load(open(f"{sys.argv[2]}/context.json"))
+assert context["diagnosis_calibration"] != context["calibration"], "the same model as the report's"
+PY
 python3 - "$work/diagnosis.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
