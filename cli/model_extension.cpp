@@ -223,16 +223,14 @@ Fit fit_extension(core::EffectKind effect, const MeasuredData& train, const Trai
     }
     const Eigen::VectorXd time_since_power_on_s = train.time_since_power_on();
     const core::CovariateInputs inputs{train.range_time_s, junction, time_since_power_on_s};
-    // A fit for one τ of the warm-up (ignored by the other covariates): the closed-form EM.
-    const auto fit_for = [&](double tau) {
+    // The closed-form EM for one τ of the warm-up (which the other covariates ignore), kept when
+    // its likelihood is the best so far.
+    std::optional<core::ExtendedEmResult> best;
+    const auto consider = [&](double tau) {
       if (has_covariate) {
         h.col(h.cols() - 1) = core::covariate_values(fit.extension.covariate, inputs, tau);
       }
-      return core::train_extended_em(h, y, bin, theta, start);
-    };
-    std::optional<core::ExtendedEmResult> best;
-    const auto consider = [&](double tau) {
-      core::ExtendedEmResult em = fit_for(tau);
+      core::ExtendedEmResult em = core::train_extended_em(h, y, bin, theta, start);
       const double log_likelihood = em.log_likelihood;
       if (!best || log_likelihood > best->log_likelihood) {
         best = std::move(em);

@@ -67,7 +67,7 @@ double ModelExtension::covariate_bias_at(double time_s, double heating_rate_c_pe
     case Covariate::HeatingRateCPerMinute:
       return covariate_mm * heating_rate_c_per_min;
     case Covariate::WarmUp:
-      return covariate_mm * std::exp(-time_since_power_on_s / time_constant_s);
+      return covariate_mm * warm_up_covariate(time_since_power_on_s, time_constant_s);
   }
   return 0.0;
 }

@@ -123,16 +123,13 @@ TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
 }
 
 TestResult best_correlation_test(const Eigen::Ref<const Eigen::MatrixXd>& x_columns,
-                                 const Eigen::Ref<const Eigen::VectorXd>& y,
-                                 Eigen::Index* best_column) {
+                                 const Eigen::Ref<const Eigen::VectorXd>& y) {
   if (x_columns.cols() < 1) throw InvalidInput("a best-correlation test needs a candidate");
   TestResult best;
-  Eigen::Index best_index = 0;
   for (Eigen::Index c = 0; c < x_columns.cols(); ++c) {
     const TestResult r = correlation_test(x_columns.col(c), y);
-    if (c == 0 || r.z > best.z) best = r, best_index = c;
+    if (c == 0 || r.z > best.z) best = r;
   }
-  if (best_column) *best_column = best_index;
   // Two-sided: p = 2 Q(z); corrected, Q(z') = columns × Q(z).
   const double log_tail = std::log(static_cast<double>(x_columns.cols())) +
                           log_upper_normal_tail(best.z);
@@ -211,13 +208,12 @@ double log_upper_normal_tail(double z) {
 
 double normal_deviate_of_log_p(double log_p) {
   if (log_p >= std::log(0.5)) return 0.0;
-  const auto log_upper_tail = [](double z) { return log_upper_normal_tail(z); };
   double z = std::sqrt(-2.0 * log_p);
   for (int i = 0; i < 60; ++i) {
     // d/dz log Q(z) = −φ(z)/Q(z) ≈ −(z + 1/z) for large z; Newton on log Q.
-    const double f = log_upper_tail(z) - log_p;
+    const double f = log_upper_normal_tail(z) - log_p;
     const double h = 1e-6 * std::max(1.0, z);
-    const double slope = (log_upper_tail(z + h) - log_upper_tail(z - h)) / (2.0 * h);
+    const double slope = (log_upper_normal_tail(z + h) - log_upper_normal_tail(z - h)) / (2.0 * h);
     const double step = f / slope;
     z = std::max(z - step, 1e-9);
     if (std::abs(step) < 1e-10 * std::max(1.0, z)) break;

@@ -40,12 +40,11 @@ TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
 
 // The most significant of several correlation tests of y, one per candidate x (the columns),
 // with Bonferroni's correction for having picked it: p = min(1, columns × p_best), z the
-// two-sided deviate of that p (finite far in the tail). statistic = r of the best column;
-// best_column gets its index when given. A family of covariates indexed by a parameter the
-// data must choose (a time constant) is tested this way.
+// two-sided deviate of that p (finite far in the tail). statistic = r of the best column. A
+// family of covariates indexed by a parameter the data must choose (a time constant) is tested
+// this way.
 TestResult best_correlation_test(const Eigen::Ref<const Eigen::MatrixXd>& x_columns,
-                                 const Eigen::Ref<const Eigen::VectorXd>& y,
-                                 Eigen::Index* best_column = nullptr);
+                                 const Eigen::Ref<const Eigen::VectorXd>& y);
 
 // log P(N(0,1) > z), exact while representable, else the asymptotic series.
 double log_upper_normal_tail(double z);

@@ -7,16 +7,23 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 
 namespace tofcomp::core {
 
 inline constexpr std::array<double, 7> kWarmUpTimeConstantsS{30.0,  60.0,  120.0, 240.0,
                                                             480.0, 960.0, 1920.0};
 
+// exp(−t_on / τ) at one instant.
+inline double warm_up_covariate(double time_since_power_on_s, double time_constant_s) {
+  return std::exp(-time_since_power_on_s / time_constant_s);
+}
+
 // exp(−t_on / τ) at each range.
 inline Eigen::VectorXd warm_up_covariate(
     const Eigen::Ref<const Eigen::VectorXd>& time_since_power_on_s, double time_constant_s) {
-  return (-time_since_power_on_s.array() / time_constant_s).exp().matrix();
+  return time_since_power_on_s.unaryExpr(
+      [&](double t) { return warm_up_covariate(t, time_constant_s); });
 }
 
 // One column per time constant of the grid.

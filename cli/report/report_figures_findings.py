@@ -274,6 +274,21 @@ def outliers(r, directory, name):
                   f"{expected:.1g} of these {r.n} ranges; here {beyond} lie beyond. {ON_THE_RECORD}")
 
 
+def _draw_bin_means(ax, r, x, edges, least):
+    """Binned means of e against x, and of y − d − Hθ̂ less its mean, with 95 % intervals;
+    returns each series as (values, label text, colour, the bins' mean x)."""
+    series = ((r.e, "e (the tested residual)", "#1f4e9c", "o"),
+              (r.residual - np.mean(r.residual), r"$y - d - H\hat{\theta}$ less its mean",
+               "#e9a03b", "s"))
+    drawn = []
+    for values, text, colour, marker in series:
+        centre, mean, half_width = binned_means(x, values, edges, least)
+        ax.errorbar(centre, mean, yerr=half_width, marker=marker, capsize=3, linestyle="none",
+                    color=colour, label=f"{text}: bin means (95 % interval)")
+        drawn.append((values, text, colour, centre))
+    return drawn
+
+
 def _binned_residual(r, x, edges, xlabel, unit, title, directory, name, linear_up_to=None,
                      least=30):
     """Binned means of e against x, and of y − d − Hθ̂ less its mean: the mode left in, so that
@@ -283,16 +298,10 @@ def _binned_residual(r, x, edges, xlabel, unit, title, directory, name, linear_u
     inside = (x >= edges[0]) & (x <= edges[-1])
     if linear_up_to is not None:
         ax.set_xscale("symlog", linthresh=linear_up_to, linscale=2.0)
-    for values, text, colour, marker in (
-            (r.e, "e (the tested residual)", "#1f4e9c", "o"),
-            (r.residual - np.mean(r.residual), r"$y - d - H\hat{\theta}$ less its mean",
-             "#e9a03b", "s")):
-        centre, mean, half_width = binned_means(x, values, edges, least)
+    for values, text, colour, centre in _draw_bin_means(ax, r, x, edges, least):
         slope, intercept = np.polyfit(x[inside], values[inside], 1)
         grid = np.linspace(np.min(centre), np.max(centre), 400)  # over the bins drawn
         slopes.append(slope)
-        ax.errorbar(centre, mean, yerr=half_width, marker=marker, capsize=3, linestyle="none",
-                    color=colour, label=f"{text}: bin means (95 % interval)")
         ax.plot(grid, intercept + slope * grid, color=colour, linewidth=1.2,
                 label=f"{text}: line, {slope:+.3f} mm per {unit}")
     ax.axhline(0.0, color="k", linewidth=0.8)
@@ -364,13 +373,7 @@ def warm_up(r, directory, name):
     gamma, level = np.polyfit(np.exp(-t_on / best), r.e, 1)
     fig, ax = plt.subplots(figsize=(6.5, 4))
     ax.set_xscale("symlog", linthresh=15.0, linscale=0.6)
-    for values, text, colour, marker in (
-            (r.e, "e (the tested residual)", "#1f4e9c", "o"),
-            (r.residual - np.mean(r.residual), r"$y - d - H\hat{\theta}$ less its mean",
-             "#e9a03b", "s")):
-        centre, mean, half_width = binned_means(t_on, values, edges, 10)
-        ax.errorbar(centre, mean, yerr=half_width, marker=marker, capsize=3, linestyle="none",
-                    color=colour, label=f"{text}: bin means (95 % interval)")
+    _draw_bin_means(ax, r, t_on, edges, 10)
     grid = np.linspace(0.0, edges[-1], 800)
     ax.plot(grid, level + gamma * np.exp(-grid / best), color="#1f4e9c", linewidth=1.2,
             label=f"e: {level:+.2f} {gamma:+.2f}·exp(−t/{best:g} s)")

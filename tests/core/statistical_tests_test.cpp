@@ -92,6 +92,42 @@ TEST(StatisticalTests, CorrelationAndIndependence) {
   EXPECT_GT(farther.z, far.z);
 }
 
+// The best of several correlations: one column is the plain test; k columns multiply the best
+// p-value by k (Bonferroni), and z is that p's two-sided deviate. Under independence the
+// corrected test rejects at most at its level.
+TEST(StatisticalTests, BestCorrelationIsBonferroniCorrected) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  const auto noise = [&](Eigen::Index n) {
+    Eigen::VectorXd v(n);
+    for (auto& x : v) x = normal(rng);
+    return v;
+  };
+  const Eigen::VectorXd x = noise(400);
+  const Eigen::VectorXd y = 0.2 * x + noise(400);
+  const TestResult single = correlation_test(x, y);
+  const TestResult one = best_correlation_test(x, y);
+  EXPECT_DOUBLE_EQ(one.statistic, single.statistic);
+  EXPECT_NEAR(one.p_value, single.p_value, 1e-12 * single.p_value);
+  Eigen::MatrixXd three(400, 3);
+  three << noise(400), x, noise(400);
+  const TestResult best = best_correlation_test(three, y);
+  EXPECT_DOUBLE_EQ(best.statistic, single.statistic);
+  EXPECT_NEAR(best.p_value, 3.0 * single.p_value, 1e-9 * single.p_value);
+  EXPECT_NEAR(two_sided_normal_p(best.z), best.p_value, 1e-9 * best.p_value);
+
+  int rejections = 0;
+  const int trials = 2000;
+  for (int trial = 0; trial < trials; ++trial) {
+    Eigen::MatrixXd columns(100, 5);
+    for (Eigen::Index c = 0; c < 5; ++c) columns.col(c) = noise(100);
+    rejections += best_correlation_test(columns, noise(100)).p_value < 0.05;
+  }
+  // At most 5 %: 100 of 2000, with three standard deviations (29) of room.
+  EXPECT_LE(rejections, 129);
+  EXPECT_GE(rejections, 40);  // Bonferroni over independent columns is near its level
+}
+
 // The normal deviate of a log tail probability: table values, and the asymptotic regime where
 // the tail itself underflows (log Q(z) ≈ −z²/2 − log(z√(2π))).
 TEST(StatisticalTests, NormalDeviateOfLogP) {

@@ -26,6 +26,24 @@ namespace {
 
 using namespace std::chrono_literals;
 
+// The daemon's compensation path as its configuration file builds it, its calibration set: the
+// offline replay of what the daemon recorded.
+realtime::CompensationPipeline configured_pipeline(const std::filesystem::path& config) {
+  const auto settings = daemon::config::load_daemon_config(config);
+  realtime::CompensationPipeline pipeline(daemon::pipeline_settings(settings));
+  pipeline.set_calibration(daemon::read_configured_calibration(settings), 1);
+  return pipeline;
+}
+
+// The recordings the daemon wrote under dir/recordings.
+std::vector<std::filesystem::path> recordings_in(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "recordings")) {
+    files.push_back(e.path());
+  }
+  return files;
+}
+
 TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   TemporaryDirectory dir;
   const std::string shm = "/tofcomp-e2e-" + std::to_string(::getpid());
@@ -83,13 +101,8 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
 
   // The recording, replayed offline with the daemon's configuration, gives the same numbers.
   write_file(config, config_text(dir.path(), shm, calibration));
-  const auto settings = daemon::config::load_daemon_config(config);
-  realtime::CompensationPipeline pipeline(daemon::pipeline_settings(settings));
-  pipeline.set_calibration(daemon::read_configured_calibration(settings), 1);
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir.path() / "recordings")) {
-    files.push_back(e.path());
-  }
+  realtime::CompensationPipeline pipeline = configured_pipeline(config);
+  const std::vector<std::filesystem::path> files = recordings_in(dir.path());
   ASSERT_EQ(files.size(), 1u);
   const io::MeasurementTable table = io::read_measurements_file(files[0].string());
   std::size_t compared = 0;
@@ -319,13 +332,8 @@ TEST(DaemonEndToEnd, CompensatesWithACalibrationsExtension) {
   // The recording replayed offline with the extended calibration: the same numbers, bit for
   // bit, up to the reload.
   write_file(config, config_text(dir.path(), shm, "extended.yaml", "effect-outliers"));
-  const auto settings = daemon::config::load_daemon_config(config);
-  realtime::CompensationPipeline pipeline(daemon::pipeline_settings(settings));
-  pipeline.set_calibration(daemon::read_configured_calibration(settings), 1);
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir.path() / "recordings")) {
-    files.push_back(e.path());
-  }
+  realtime::CompensationPipeline pipeline = configured_pipeline(config);
+  const std::vector<std::filesystem::path> files = recordings_in(dir.path());
   ASSERT_EQ(files.size(), 1u);
   const io::MeasurementTable table = io::read_measurements_file(files[0].string());
   std::size_t compared = 0;
