@@ -59,7 +59,7 @@ double resident_mb() {
 void compensation_path(benchmark::State& state, bool paced, bool encode_json) {
   const auto wire = telegrams(256);
   auto calibration =
-      std::make_shared<const tofcomp::io::Calibration>(tofcomp::io::read_calibration_file(
+      std::make_shared<const tofcomp::core::Calibration>(tofcomp::io::read_calibration_file(
           std::string(TOFCOMP_SOURCE_ROOT) + "/config/calibration.yaml"));
   tofcomp::realtime::CompensationPipeline pipeline;
   pipeline.set_calibration(calibration, 1);

@@ -1,14 +1,16 @@
 // tofcomp diagnose DATA --datasheet D.yaml [--calibration C.yaml]: finds in the residuals of a
 // trained model what Eq. 8 lacks (core/residual_diagnosis.hpp), ranks the findings, fits the
-// extension for the effect named first and judges it on held-out data (cli/model_extension.hpp).
+// extension for the effect named first and judges it on held-out data (calibration/model_extension.hpp).
 #include <fmt/format.h>
 
+#include "calibration/diagnosis.hpp"
+#include "calibration/model_extension.hpp"
 #include "cli/command.hpp"
 #include "cli/extension_format.hpp"
-#include "cli/model_extension.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_options.hpp"
 #include "cli/shared_options.hpp"
+#include "io/calibration_file.hpp"
 
 namespace tofcomp::cli {
 void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
@@ -33,47 +35,48 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("--calibration-output", *calibration_out,
                   "Write the calibration with the extension when it is kept (for tofcompd)");
   auto report = add_report_options(*cmd);
-  cmd->callback([&common, &run, data, training, calibration, windows, stride, calibration_out,
-                 report] {
-    run = [&common, data, training, calibration, windows, stride, calibration_out, report] {
-      Progress progress("diagnose", !common.quiet);
-      const MeasuredData measured = data->load();
-      measured.require_true_ranges();
-      const std::vector<Eigen::Index> lengths = parse_windows(*windows);
-      const io::Calibration c = calibration->empty()
-                                    ? train_calibration(measured, training->settings()).calibration
-                                    : io::read_calibration_file(*calibration);
-      progress.update(0.3, "testing the residuals");
-      const core::Diagnosis d = diagnose(measured, c);
+  cmd->callback(
+      [&common, &run, data, training, calibration, windows, stride, calibration_out, report] {
+        run = [&common, data, training, calibration, windows, stride, calibration_out, report] {
+          Progress progress("diagnose", !common.quiet);
+          const calibration::MeasuredData measured = data->load();
+          measured.require_true_ranges();
+          const std::vector<Eigen::Index> lengths = parse_windows(*windows);
+          const core::Calibration c =
+              calibration->empty()
+                  ? calibration::train_calibration(measured, training->settings()).calibration
+                  : io::read_calibration_file(*calibration);
+          progress.update(0.3, "testing the residuals");
+          const core::Diagnosis d = calibration::diagnose(measured, c);
 
-      CommandResult result;
-      result.json = to_json(d);
-      result.text = diagnosis_text(d);
-      if (d.findings.empty() || !d.findings.front().significant) {
-        progress.done();
-        report->write_if_requested(measured, training->settings(), result.json, c, lengths,
-                                   !common.quiet);
-        return result;
-      }
-      // Held-out data decide: train on the first half of the cycles, test on the rest.
-      progress.update(0.5, fmt::format("fitting the extension for {}",
-                                       core::effect_name(d.findings.front().kind)));
-      const double split = split_time(measured, 0.5);
-      const ExtensionReport e =
-          evaluate_extension(d.findings.front().kind, measured.slice(-1e300, split),
-                             measured.slice(split, 1e300), training->settings(), lengths, *stride);
-      progress.done();
-      result.json["extension"] = to_json(e);
-      result.text += extension_text(e);
-      if (!calibration_out->empty() && e.kept) {
-        io::write_calibration_file(*calibration_out, e.calibration);
-        result.text += fmt::format("extended calibration written to {}\n", *calibration_out);
-      }
-      report->write_if_requested(measured, training->settings(), result.json, c, lengths,
-                                 !common.quiet);
-      return result;
-    };
-  });
+          CommandResult result;
+          result.json = to_json(d);
+          result.text = diagnosis_text(d);
+          if (d.findings.empty() || !d.findings.front().significant) {
+            progress.done();
+            report->write_if_requested(measured, training->settings(), result.json, c, lengths,
+                                       !common.quiet);
+            return result;
+          }
+          // Held-out data decide: train on the first half of the cycles, test on the rest.
+          progress.update(0.5, fmt::format("fitting the extension for {}",
+                                           core::effect_name(d.findings.front().kind)));
+          const double split = calibration::split_time(measured, 0.5);
+          const calibration::ExtensionReport e = calibration::evaluate_extension(
+              d.findings.front().kind, measured.slice(-1e300, split), measured.slice(split, 1e300),
+              training->settings(), lengths, *stride);
+          progress.done();
+          result.json["extension"] = to_json(e);
+          result.text += extension_text(e);
+          if (!calibration_out->empty() && e.kept) {
+            io::write_calibration_file(*calibration_out, e.calibration);
+            result.text += fmt::format("extended calibration written to {}\n", *calibration_out);
+          }
+          report->write_if_requested(measured, training->settings(), result.json, c, lengths,
+                                     !common.quiet);
+          return result;
+        };
+      });
 }
 
 }  // namespace tofcomp::cli

@@ -38,19 +38,19 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
                  calibration_out] {
     run = [&common, data, training, fraction, windows, stride, figures, calibration_out] {
       Progress progress("evaluate", !common.quiet);
-      const MeasuredData all = data->load();
-      const double split = split_time(all, *fraction);
-      const MeasuredData train = all.slice(-1e300, split);
-      const MeasuredData test = all.slice(split, 1e300);
+      const calibration::MeasuredData all = data->load();
+      const double split = calibration::split_time(all, *fraction);
+      const calibration::MeasuredData train = all.slice(-1e300, split);
+      const calibration::MeasuredData test = all.slice(split, 1e300);
       test.require_true_ranges();
       progress.update(0.05, "training");
-      const TrainSettings settings = training->settings();
-      const Training t = train_calibration(train, settings, &test);
+      const calibration::TrainSettings settings = training->settings();
+      const calibration::Training t = calibration::train_calibration(train, settings, &test);
       if (!calibration_out->empty()) io::write_calibration_file(*calibration_out, t.calibration);
-      const Compensation compensation = compensate(test, t.calibration);
-      const auto evaluations =
-          evaluate_windows(test, t.calibration, compensation, parse_windows(*windows), *stride,
-                           [&](double f) { progress.update(0.2 + 0.8 * f, "windows"); });
+      const calibration::Compensation compensation = calibration::compensate(test, t.calibration);
+      const auto evaluations = calibration::evaluate_windows(
+          test, t.calibration, compensation, parse_windows(*windows), *stride,
+          [&](double f) { progress.update(0.2 + 0.8 * f, "windows"); });
       if (!figures->empty()) {
         write_figure_data(*figures, test, t.calibration, compensation, evaluations, &t.thermal,
                           &t.em);

@@ -11,6 +11,7 @@
 
 #include "cli/command.hpp"
 #include "core/error.hpp"
+#include "io/utc_time.hpp"
 #include "ipc/socket/client.hpp"
 #include "ipc/socket/protocol_error.hpp"
 #include "ipc/socket/subscription.hpp"
@@ -65,24 +66,13 @@ std::string number(const json& value, const char* format) {
   return text;
 }
 
-std::string utc_time(std::int64_t ns) {
-  const std::time_t seconds = static_cast<std::time_t>(ns / 1000000000);
-  std::tm tm{};
-  gmtime_r(&seconds, &tm);
-  char text[64];
-  std::snprintf(text, sizeof text, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", tm.tm_year + 1900,
-                tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec,
-                static_cast<int>((ns / 1000000) % 1000));
-  return text;
-}
-
 // The scan as a header line and a table of its beams.
 std::string scan_text(const json& scan) {
   const std::size_t shown = scan.at("beams").size();
   const std::size_t first = scan.at("first_beam").get<std::size_t>();
   std::string text =
       "scan " + scan.at("sequence").dump() + " (device " + scan.at("device_sequence").dump() +
-      ") at " + utc_time(scan.at("timestamp_ns").get<std::int64_t>()) + "; junction " +
+      ") at " + io::utc_timestamp(scan.at("timestamp_ns").get<std::int64_t>(), 3) + "; junction " +
       number(scan.at("junction_c"), "%.2f") + " ± " + number(scan.at("junction_std_c"), "%.2f") +
       " °C, case " + number(scan.at("case_c"), "%.2f") + " °C; calibration " +
       scan.at("calibration_id").dump() + "; beams " +

@@ -10,11 +10,11 @@
 
 #include "cli/command.hpp"
 #include "core/error.hpp"
-#include "daemon/config/daemon_config_yaml.hpp"
-#include "daemon/config/embedded_default_config.hpp"
-#include "daemon/pipeline_setup.hpp"
 #include "io/measurement_csv.hpp"
 #include "realtime/recording_replay.hpp"
+#include "settings/daemon_config_yaml.hpp"
+#include "settings/embedded_default_config.hpp"
+#include "settings/pipeline_setup.hpp"
 
 namespace tofcomp::cli {
 namespace {
@@ -30,11 +30,10 @@ std::string cell(double v) {
 }
 
 CommandResult replay(const ReplayOptions& o, const CommonOptions& common) {
-  const daemon::config::DaemonConfig config = o.config.empty()
-                                                  ? daemon::config::embedded_default_config()
-                                                  : daemon::config::load_daemon_config(o.config);
-  realtime::CompensationPipeline pipeline(daemon::pipeline_settings(config));
-  if (auto calibration = daemon::read_configured_calibration(config)) {
+  const settings::DaemonConfig config = o.config.empty() ? settings::embedded_default_config()
+                                                         : settings::load_daemon_config(o.config);
+  realtime::CompensationPipeline pipeline(settings::pipeline_settings(config));
+  if (auto calibration = settings::read_configured_calibration(config)) {
     pipeline.set_calibration(std::move(calibration), 1);
   }
   const io::MeasurementTable table = io::read_measurements_file(o.recording);
@@ -68,7 +67,7 @@ CommandResult replay(const ReplayOptions& o, const CommonOptions& common) {
   if (out.is_open() && !out.flush()) throw core::Error("cannot write " + o.output);
   CommandResult result;
   const double mean_change = compensated ? sum_abs_change / compensated : 0.0;
-  const io::Calibration* calibration = pipeline.calibration();
+  const core::Calibration* calibration = pipeline.calibration();
   const bool extended = calibration && calibration->extension;
   const std::string extension = extended ? io::effect_token(calibration->extension->effect) : "";
   result.json = {{"recording", o.recording},

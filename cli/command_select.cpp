@@ -2,7 +2,7 @@
 // the single-Gaussian null, Eq. 25 and 29 as printed, BIC and held-out likelihood.
 #include <fmt/format.h>
 
-#include "cli/basis_spec.hpp"
+#include "calibration/basis_spec.hpp"
 #include "cli/command.hpp"
 #include "cli/progress.hpp"
 #include "cli/shared_options.hpp"
@@ -27,14 +27,14 @@ void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& 
   cmd->callback([&common, &run, data, thermal, candidates, modes] {
     run = [&common, data, thermal, candidates, modes] {
       Progress progress("select", !common.quiet);
-      const MeasuredData measured = data->load();
+      const calibration::MeasuredData measured = data->load();
       measured.require_true_ranges();
-      const ThermalFitSettings settings = thermal->settings();
-      const ThermalFit fit = fit_thermal(measured, nullptr, settings);
+      const calibration::ThermalFitSettings settings = thermal->settings();
+      const calibration::ThermalFit fit = calibration::fit_thermal(measured, nullptr, settings);
       core::ThermalNoise noise;
-      const JunctionEstimate junction =
-          junction_at_ranges(measured, fit.pem.parameters, noise, settings.ambient_fallback_c);
-      const auto bases = parse_candidates(*candidates, junction.junction_c);
+      const calibration::SmoothedJunction junction = calibration::junction_at_ranges(
+          measured, fit.pem.parameters, noise, settings.ambient_fallback_c);
+      const auto bases = calibration::parse_candidates(*candidates, junction.junction_c);
       progress.update(0.2, std::to_string(bases.size()) + " candidates");
       core::SelectionOptions options;
       options.em.modes = *modes;

@@ -13,6 +13,7 @@
 
 #include "cli/command.hpp"
 #include "core/error.hpp"
+#include "io/utc_time.hpp"
 #include "ipc/ring/ring_reader.hpp"
 
 namespace tofcomp::cli {
@@ -97,40 +98,6 @@ std::string format_or_dash(const char* format, double value) {
   return text;
 }
 
-// "2024-05-06T12:00:00.123456789Z" (UTC) from ns since the epoch.
-std::string utc_time(std::int64_t timestamp_ns) {
-  std::int64_t seconds = timestamp_ns / 1'000'000'000;
-  std::int64_t nanoseconds = timestamp_ns % 1'000'000'000;
-  if (nanoseconds < 0) {
-    nanoseconds += 1'000'000'000;
-    --seconds;
-  }
-  const auto t = static_cast<std::time_t>(seconds);
-  std::tm utc{};
-  if (gmtime_r(&t, &utc) == nullptr) return std::to_string(timestamp_ns) + " ns";
-  char date[32];
-  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%S", &utc);
-  char text[64];
-  std::snprintf(text, sizeof text, "%s.%09lldZ", date, static_cast<long long>(nanoseconds));
-  return text;
-}
-
-std::vector<std::string> flag_names(std::uint16_t flags) {
-  static const std::pair<std::uint16_t, const char*> kNames[] = {
-      {ipc::kBeamNoEcho, "no_echo"},
-      {ipc::kBeamUncalibrated, "uncalibrated"},
-      {ipc::kBeamTemperatureStale, "temperature_stale"},
-      {ipc::kBeamWindowRestarting, "window_restarting"},
-      {ipc::kBeamChangeDetected, "change_detected"},
-      {ipc::kBeamOutlier, "outlier"},
-  };
-  std::vector<std::string> names;
-  for (const auto& [bit, name] : kNames) {
-    if (flags & bit) names.emplace_back(name);
-  }
-  return names;
-}
-
 std::string joined(const std::vector<std::string>& names) {
   if (names.empty()) return "-";
   std::string text;
@@ -156,12 +123,12 @@ nlohmann::json scan_json(const ipc::CompensatedScan& scan, const BeamRange& rang
                      {"mode_count", v.mode_count},
                      {"most_probable_mode", v.most_probable_mode},
                      {"flags", v.flags},
-                     {"flag_names", flag_names(v.flags)}});
+                     {"flag_names", ipc::beam_flag_names(v.flags)}});
   }
   return {{"sequence", scan.sequence},
           {"device_sequence", scan.device_sequence},
           {"timestamp_ns", scan.timestamp_ns},
-          {"time", utc_time(scan.timestamp_ns)},
+          {"time", io::utc_timestamp(scan.timestamp_ns, io::kMaxFractionDigits)},
           {"junction_c", number_or_null(scan.junction_c)},
           {"junction_std_c", number_or_null(scan.junction_std_c)},
           {"case_c", number_or_null(scan.case_c)},
@@ -174,25 +141,27 @@ nlohmann::json scan_json(const ipc::CompensatedScan& scan, const BeamRange& rang
 
 std::string scan_text(const ipc::CompensatedScan& scan, const BeamRange& range) {
   char line[256];
-  std::snprintf(
-      line, sizeof line,
-      "scan %llu (device %llu)  %s  junction %s ± %s °C  case %s °C  calibration %u  "
-      "%zu beams\n",
-      static_cast<unsigned long long>(scan.sequence),
-      static_cast<unsigned long long>(scan.device_sequence), utc_time(scan.timestamp_ns).c_str(),
-      format_or_dash("%.2f", scan.junction_c).c_str(),
-      format_or_dash("%.2f", scan.junction_std_c).c_str(),
-      format_or_dash("%.2f", scan.case_c).c_str(), scan.calibration_id, scan.beams.size());
+  std::snprintf(line, sizeof line,
+                "scan %llu (device %llu)  %s  junction %s ± %s °C  case %s °C  calibration %u  "
+                "%zu beams\n",
+                static_cast<unsigned long long>(scan.sequence),
+                static_cast<unsigned long long>(scan.device_sequence),
+                io::utc_timestamp(scan.timestamp_ns, io::kMaxFractionDigits).c_str(),
+                format_or_dash("%.2f", scan.junction_c).c_str(),
+                format_or_dash("%.2f", scan.junction_std_c).c_str(),
+                format_or_dash("%.2f", scan.case_c).c_str(), scan.calibration_id,
+                scan.beams.size());
   std::string text = line;
   if (range.first >= scan.beams.size()) return text;
   text += "   beam  angle_deg     raw_mm  compensated_mm  window_mm  window_std_mm  flags\n";
   for (std::size_t b = range.first; b < scan.beams.size() && b <= range.last; ++b) {
     const ipc::BeamValue& v = scan.beams[b];
-    std::snprintf(
-        line, sizeof line, "  %5zu  %9.2f  %9s  %14s  %9s  %13s  %s\n", b, beam_angle_deg(scan, b),
-        format_or_dash("%.1f", v.raw_mm).c_str(), format_or_dash("%.2f", v.compensated_mm).c_str(),
-        format_or_dash("%.2f", v.window_mm).c_str(),
-        format_or_dash("%.3f", v.window_std_mm).c_str(), joined(flag_names(v.flags)).c_str());
+    std::snprintf(line, sizeof line, "  %5zu  %9.2f  %9s  %14s  %9s  %13s  %s\n", b,
+                  beam_angle_deg(scan, b), format_or_dash("%.1f", v.raw_mm).c_str(),
+                  format_or_dash("%.2f", v.compensated_mm).c_str(),
+                  format_or_dash("%.2f", v.window_mm).c_str(),
+                  format_or_dash("%.3f", v.window_std_mm).c_str(),
+                  joined(ipc::beam_flag_names(v.flags)).c_str());
     text += line;
   }
   return text;

@@ -1,8 +1,8 @@
 // tofcomp simulate SCENARIO -o DATA.csv: plays a twin scenario and writes the measured data.
 #include "cli/command.hpp"
-#include "cli/measured_data_csv.hpp"
 #include "cli/progress.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "sim/twin_csv.hpp"
 
 namespace tofcomp::cli {
 
@@ -22,7 +22,7 @@ void register_simulate(CLI::App& app, const CommonOptions& common, CommandRunner
       const sim::Scenario s = sim::load_scenario_file(*scenario);
       Progress progress("simulate " + s.name, !common.quiet);
       const sim::TwinSeries series = sim::simulate_series(s, [&](double f) { progress.update(f); });
-      write_twin_series(*output, s, series);
+      sim::write_twin_series(*output, s, series);
       progress.done(std::to_string(series.ranges.size()) + " ranges");
       double lo = 1e300, hi = -1e300;
       for (const auto& r : series.ranges) {

@@ -30,12 +30,12 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
   cmd->callback([&common, &run, data, calibration, windows, stride, figures] {
     run = [&common, data, calibration, windows, stride, figures] {
       Progress progress("test", !common.quiet);
-      const io::Calibration c = io::read_calibration_file(*calibration);
-      const MeasuredData measured = data->load();
-      const Compensation compensation = compensate(measured, c);
+      const core::Calibration c = io::read_calibration_file(*calibration);
+      const calibration::MeasuredData measured = data->load();
+      const calibration::Compensation compensation = calibration::compensate(measured, c);
       const auto evaluations =
-          evaluate_windows(measured, c, compensation, parse_windows(*windows), *stride,
-                           [&](double f) { progress.update(f, "windows"); });
+          calibration::evaluate_windows(measured, c, compensation, parse_windows(*windows), *stride,
+                                        [&](double f) { progress.update(f, "windows"); });
       if (!figures->empty()) {
         write_figure_data(*figures, measured, c, compensation, evaluations, nullptr, nullptr);
       }

@@ -22,12 +22,13 @@ void register_thermal_fit(CLI::App& app, const CommonOptions& common, CommandRun
   cmd->callback([&common, &run, data, thermal, fraction] {
     run = [&common, data, thermal, fraction] {
       Progress progress("thermal-fit", !common.quiet);
-      const MeasuredData all = data->load();
-      const double split = split_time(all, *fraction);
-      const MeasuredData train = all.slice(-1e300, split);
-      const MeasuredData held_out = all.slice(split, 1e300);
+      const calibration::MeasuredData all = data->load();
+      const double split = calibration::split_time(all, *fraction);
+      const calibration::MeasuredData train = all.slice(-1e300, split);
+      const calibration::MeasuredData held_out = all.slice(split, 1e300);
       progress.update(0.2, "fitting");
-      const ThermalFit fit = fit_thermal(train, &held_out, thermal->settings());
+      const calibration::ThermalFit fit =
+          calibration::fit_thermal(train, &held_out, thermal->settings());
       progress.done();
       CommandResult result;
       result.json = to_json(fit);

@@ -19,9 +19,10 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
   cmd->callback([&common, &run, data, training, output] {
     run = [&common, data, training, output] {
       Progress progress("train", !common.quiet);
-      const MeasuredData measured = data->load();
+      const calibration::MeasuredData measured = data->load();
       progress.update(0.1, "thermal fit, junction temperature, EM");
-      const Training t = train_calibration(measured, training->settings());
+      const calibration::Training t =
+          calibration::train_calibration(measured, training->settings());
       io::write_calibration_file(*output, t.calibration);
       progress.done("wrote " + *output);
       CommandResult result;

@@ -11,9 +11,9 @@
 #include "cli/report_figure_data.hpp"
 #include "cli/report_format.hpp"
 #include "cli/report_renderer.hpp"
-#include "cli/version.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "io/version.hpp"
 
 namespace tofcomp::cli {
 namespace {
@@ -41,11 +41,12 @@ std::vector<Eigen::Index> fitting_windows(std::vector<Eigen::Index> wanted, Eige
   return wanted;
 }
 
-// What the diagnosis tested, range by range over the whole record (cli/pipeline.cpp, diagnose):
+// What the diagnosis tested, range by range over the whole record (calibration/diagnosis.cpp):
 // the bias under the calibration it ran under (an extension's covariate included) and the time
 // since the last power-on; the findings' figures recompute the residuals from it.
-std::string diagnosis_samples_csv(const MeasuredData& measured, const io::Calibration& diagnosed) {
-  const Compensation compensation = compensate(measured, diagnosed);
+std::string diagnosis_samples_csv(const calibration::MeasuredData& measured,
+                                  const core::Calibration& diagnosed) {
+  const calibration::Compensation compensation = calibration::compensate(measured, diagnosed);
   const Eigen::VectorXd time_since_power_on_s = measured.time_since_power_on();
   std::string out = "time_s,time_since_power_on_s,range_mm,true_range_mm,junction_c,bias_mm\n";
   for (Eigen::Index k = 0; k < measured.range_mm.size(); ++k) {
@@ -58,10 +59,10 @@ std::string diagnosis_samples_csv(const MeasuredData& measured, const io::Calibr
 
 }  // namespace
 
-void write_diagnosis_report(const std::string& directory, const MeasuredData& measured,
-                            const TrainSettings& settings, const nlohmann::json& diagnosis,
-                            const io::Calibration& diagnosed, const ReportSettings& report,
-                            bool show_progress) {
+void write_diagnosis_report(const std::string& directory, const calibration::MeasuredData& measured,
+                            const calibration::TrainSettings& settings,
+                            const nlohmann::json& diagnosis, const core::Calibration& diagnosed,
+                            const ReportSettings& report, bool show_progress) {
   const std::filesystem::path dir = make_report_directory(directory);
   const ReportRenderer renderer = find_report_renderer();
   const std::filesystem::path data_dir = dir / "data";
@@ -69,9 +70,9 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
 
   // The diagnosis's held-out split (command_diagnose.cpp): train on the first half of the
   // power cycles, draw the figures of testing on the rest.
-  const double split = split_time(measured, 0.5);
-  const MeasuredData train = measured.slice(-1e300, split);
-  const MeasuredData test = measured.slice(split, 1e300);
+  const double split = calibration::split_time(measured, 0.5);
+  const calibration::MeasuredData train = measured.slice(-1e300, split);
+  const calibration::MeasuredData test = measured.slice(split, 1e300);
   test.require_true_ranges();
   if (test.range_mm.size() < kMinimumHeldOutRanges) {
     throw core::InvalidInput(
@@ -79,8 +80,8 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
                     measured.source, split, test.range_mm.size(), kMinimumHeldOutRanges));
   }
   progress.update(0.02, "training on the first half");
-  const Training t = train_calibration(train, settings, &test);
-  const Compensation compensation = compensate(test, t.calibration);
+  const calibration::Training t = calibration::train_calibration(train, settings, &test);
+  const calibration::Compensation compensation = calibration::compensate(test, t.calibration);
 
   // Fig. 16-19: the three estimators of §8.4 on every window of each length.
   const Eigen::Index samples = test.range_mm.size();
@@ -90,9 +91,9 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
   std::vector<Eigen::Index> all_windows = report_windows;
   all_windows.insert(all_windows.end(), moment_windows.begin(), moment_windows.end());
   all_windows = fitting_windows(all_windows, samples);
-  const auto evaluations =
-      evaluate_windows(test, t.calibration, compensation, all_windows, report.stride,
-                       [&](double f) { progress.update(0.1 + 0.3 * f, "window estimates"); });
+  const auto evaluations = calibration::evaluate_windows(
+      test, t.calibration, compensation, all_windows, report.stride,
+      [&](double f) { progress.update(0.1 + 0.3 * f, "window estimates"); });
   // Fig. 3, 4, 8, 11, 12, 13, 16, 17: the CSVs of `tofcomp evaluate --figures`.
   write_figure_data(data_dir.string(), test, t.calibration, compensation, evaluations, &t.thermal,
                     &t.em);
@@ -111,7 +112,7 @@ void write_diagnosis_report(const std::string& directory, const MeasuredData& me
 
   const nlohmann::json context = {{"source", measured.source},
                                   {"beam", measured.beam},
-                                  {"software_version", std::string("tofcomp ") + kVersion},
+                                  {"software_version", std::string("tofcomp ") + io::kVersion},
                                   {"split_time_s", split},
                                   {"training_samples", train.range_mm.size()},
                                   {"test_samples", samples},

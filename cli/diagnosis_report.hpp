@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "cli/measured_data.hpp"
-#include "cli/pipeline.hpp"
+#include "calibration/measured_data.hpp"
+#include "calibration/training.hpp"
 #include "cli/report_figure_data.hpp"
 
 namespace tofcomp::cli {
@@ -36,12 +36,12 @@ struct ReportSettings {
 
 // Writes the report of `diagnosis` (the JSON that `tofcomp diagnose --json` prints) on
 // `measured` into `directory`, creating it. `diagnosed` is the calibration the diagnosis ran
-// under: the figures of the findings are drawn on the whole record under it, as the tests ran. Throws core::Error naming the directory when it
-// cannot be made, and whatever training, testing or the renderer throws. Progress on stderr
-// when show_progress.
-void write_diagnosis_report(const std::string& directory, const MeasuredData& measured,
-                            const TrainSettings& settings, const nlohmann::json& diagnosis,
-                            const io::Calibration& diagnosed, const ReportSettings& report,
-                            bool show_progress);
+// under: the figures of the findings are drawn on the whole record under it, as the tests ran.
+// Throws core::Error naming the directory when it cannot be made, and whatever training, testing or
+// the renderer throws. Progress on stderr when show_progress.
+void write_diagnosis_report(const std::string& directory, const calibration::MeasuredData& measured,
+                            const calibration::TrainSettings& settings,
+                            const nlohmann::json& diagnosis, const core::Calibration& diagnosed,
+                            const ReportSettings& report, bool show_progress);
 
 }  // namespace tofcomp::cli

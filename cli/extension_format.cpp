@@ -29,7 +29,7 @@ nlohmann::json to_json(const core::Diagnosis& d) {
   return out;
 }
 
-nlohmann::json to_json(const ExtensionReport& e) {
+nlohmann::json to_json(const calibration::ExtensionReport& e) {
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& [name, value] : e.parameters) parameters[name] = value;
   nlohmann::json errors = nlohmann::json::array();
@@ -66,7 +66,7 @@ std::string diagnosis_text(const core::Diagnosis& d) {
   return text;
 }
 
-std::string extension_text(const ExtensionReport& e) {
+std::string extension_text(const calibration::ExtensionReport& e) {
   std::string text = fmt::format("extension for {}: {}\n", core::effect_name(e.named), e.model);
   for (const auto& [name, value] : e.parameters)
     text += fmt::format("  {:<32} {:>12.5g}\n", name, value);
@@ -91,7 +91,7 @@ std::string extension_text(const ExtensionReport& e) {
                        "not kept: held-out log-likelihood gain {:.1f}, MAE of d hat factor {:.3f} "
                        "(kept when the gain is positive and the factor at least {:.2f})\n",
                        e.held_out_log_likelihood_gain(), e.mean_absolute_error_factor(),
-                       kMinimumMaeFactor);
+                       calibration::kMinimumMaeFactor);
   return text;
 }
 

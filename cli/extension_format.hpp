@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "cli/model_extension.hpp"
+#include "calibration/model_extension.hpp"
 #include "core/residual_diagnosis.hpp"
 
 namespace tofcomp::cli {
@@ -14,9 +14,9 @@ namespace tofcomp::cli {
 nlohmann::json to_json(const core::Diagnosis& d);
 // {effect, named, model, parameters {name: value}, held_out_log_likelihood_before/after/gain,
 //  kept, mae_factor, errors: [{window, before, after, mae_factor}]}.
-nlohmann::json to_json(const ExtensionReport& e);
+nlohmann::json to_json(const calibration::ExtensionReport& e);
 
 std::string diagnosis_text(const core::Diagnosis& d);
-std::string extension_text(const ExtensionReport& e);
+std::string extension_text(const calibration::ExtensionReport& e);
 
 }  // namespace tofcomp::cli

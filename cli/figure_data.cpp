@@ -11,8 +11,8 @@
 namespace tofcomp::cli {
 namespace {
 
-std::string samples_csv(const MeasuredData& test, const io::Calibration& calibration,
-                        const Compensation& compensation) {
+std::string samples_csv(const calibration::MeasuredData& test, const core::Calibration& calibration,
+                        const calibration::Compensation& compensation) {
   const int modes = calibration.model.noise.modes();
   // Mode posteriors at the EM estimate of the whole test record (Eq. 22).
   const core::EmTestResult fit =
@@ -26,9 +26,9 @@ std::string samples_csv(const MeasuredData& test, const io::Calibration& calibra
   for (Eigen::Index k = 0; k < test.range_mm.size(); ++k) {
     Eigen::Index best = 0;
     fit.responsibilities.row(k).maxCoeff(&best);
-    out += fmt::format("{},{},{},{},{}", test.range_time_s[k], time_since_power_on_s[k],
-                       test.range_mm[k], compensation.junction.junction_c[k],
-                       compensation.bias_mm[k]);
+    out +=
+        fmt::format("{},{},{},{},{}", test.range_time_s[k], time_since_power_on_s[k],
+                    test.range_mm[k], compensation.junction.junction_c[k], compensation.bias_mm[k]);
     for (int i = 0; i < modes; ++i) out += fmt::format(",{}", fit.responsibilities(k, i));
     out += fmt::format(
         ",{}", test.range_mm[k] - compensation.bias_mm[k] - calibration.model.noise.mean[best]);
@@ -37,7 +37,7 @@ std::string samples_csv(const MeasuredData& test, const io::Calibration& calibra
   return out;
 }
 
-std::string windows_csv(const WindowEvaluation& e) {
+std::string windows_csv(const calibration::WindowEvaluation& e) {
   std::string out = "start,em_distance_mm,em_distance_std_mm,raw_mean_mm,bias_corrected_mean_mm";
   out += e.has_truth ? ",true_range_mm\n" : "\n";
   for (std::size_t i = 0; i < e.estimates.start.size(); ++i) {
@@ -50,7 +50,7 @@ std::string windows_csv(const WindowEvaluation& e) {
   return out;
 }
 
-std::string thermal_csv(const ThermalFit& fit) {
+std::string thermal_csv(const calibration::ThermalFit& fit) {
   std::string out = "time_s,measured_case_c,predicted_case_c\n";
   for (Eigen::Index k = 0; k < fit.held_out_time_s.size(); ++k) {
     out += fmt::format("{},{},{}\n", fit.held_out_time_s[k], fit.held_out_measured_c[k],
@@ -77,9 +77,11 @@ std::string convergence_csv(const core::EmTrainResult& em) {
 
 }  // namespace
 
-void write_figure_data(const std::string& directory, const MeasuredData& test,
-                       const io::Calibration& calibration, const Compensation& compensation,
-                       const std::vector<WindowEvaluation>& windows, const ThermalFit* thermal,
+void write_figure_data(const std::string& directory, const calibration::MeasuredData& test,
+                       const core::Calibration& calibration,
+                       const calibration::Compensation& compensation,
+                       const std::vector<calibration::WindowEvaluation>& windows,
+                       const calibration::ThermalFit* thermal,
                        const core::EmTrainResult* training) {
   std::filesystem::create_directories(directory);
   const std::filesystem::path dir(directory);

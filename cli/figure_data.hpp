@@ -10,14 +10,17 @@
 #include <string>
 #include <vector>
 
-#include "cli/measured_data.hpp"
-#include "cli/pipeline.hpp"
+#include "calibration/compensation.hpp"
+#include "calibration/measured_data.hpp"
+#include "calibration/training.hpp"
+#include "calibration/window_evaluation.hpp"
 
 namespace tofcomp::cli {
 
-void write_figure_data(const std::string& directory, const MeasuredData& test,
-                       const io::Calibration& calibration, const Compensation& compensation,
-                       const std::vector<WindowEvaluation>& windows, const ThermalFit* thermal,
-                       const core::EmTrainResult* training);
+void write_figure_data(const std::string& directory, const calibration::MeasuredData& test,
+                       const core::Calibration& calibration,
+                       const calibration::Compensation& compensation,
+                       const std::vector<calibration::WindowEvaluation>& windows,
+                       const calibration::ThermalFit* thermal, const core::EmTrainResult* training);
 
 }  // namespace tofcomp::cli

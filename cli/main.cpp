@@ -7,15 +7,15 @@
 #include <iostream>
 
 #include "cli/command.hpp"
-#include "cli/version.hpp"
 #include "core/error.hpp"
+#include "io/version.hpp"
 
 int main(int argc, char** argv) {
   using namespace tofcomp::cli;
   CLI::App app{
       "tofcomp: temperature and mode-hopping compensation for time-of-flight LiDARs "
       "(Alhashimi et al., Sensors 2015)"};
-  app.set_version_flag("--version", kVersion);
+  app.set_version_flag("--version", tofcomp::io::kVersion);
   app.require_subcommand(1);
   app.fallthrough();  // --json and --quiet also after the subcommand
   CommonOptions common;

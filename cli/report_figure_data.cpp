@@ -86,8 +86,9 @@ nlohmann::json write_glr_data(const std::filesystem::path& directory,
           {"seconds", seconds_since(start)}};
 }
 
-nlohmann::json write_em_test_trace(const std::filesystem::path& directory, const MeasuredData& test,
-                                   const Compensation& compensation,
+nlohmann::json write_em_test_trace(const std::filesystem::path& directory,
+                                   const calibration::MeasuredData& test,
+                                   const calibration::Compensation& compensation,
                                    const core::MixtureParameters& mixture, Eigen::Index samples) {
   const Eigen::Index k = std::min(samples, test.range_mm.size());
   const Eigen::VectorXd y = test.range_mm.head(k);
@@ -107,8 +108,9 @@ nlohmann::json write_em_test_trace(const std::filesystem::path& directory, const
 }
 
 nlohmann::json write_em_test_cost(const std::filesystem::path& directory,
-                                  const TrainingResiduals& training, const MeasuredData& test,
-                                  const Compensation& compensation,
+                                  const TrainingResiduals& training,
+                                  const calibration::MeasuredData& test,
+                                  const calibration::Compensation& compensation,
                                   const std::vector<int>& fourier_orders, double f0_per_c,
                                   const core::EmTrainOptions& em, int steps) {
   constexpr int kPoints = 10;
@@ -158,11 +160,11 @@ nlohmann::json write_em_test_cost(const std::filesystem::path& directory,
 }
 
 void write_error_moments(const std::filesystem::path& directory,
-                         const std::vector<WindowEvaluation>& evaluations) {
+                         const std::vector<calibration::WindowEvaluation>& evaluations) {
   std::string csv =
       "window,estimator,count,mean_error_mm,error_variance_mm2,mean_absolute_error_mm,"
       "absolute_error_variance_mm2,rmse_mm\n";
-  for (const WindowEvaluation& e : evaluations) {
+  for (const calibration::WindowEvaluation& e : evaluations) {
     if (!e.has_truth) continue;
     const std::pair<const char*, const core::ErrorMoments*> rows[] = {
         {"raw_mean", &e.raw}, {"bias_corrected_mean", &e.bias_corrected}, {"em_distance", &e.em}};

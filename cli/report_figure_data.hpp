@@ -14,7 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "cli/pipeline.hpp"
+#include "calibration/compensation.hpp"
+#include "calibration/window_evaluation.hpp"
 #include "core/em_train.hpp"
 #include "core/gaussian_mixture.hpp"
 
@@ -43,8 +44,9 @@ nlohmann::json write_glr_data(const std::filesystem::path& directory,
 
 // Fig. 14: EM testing (§6, Eq. 22-23) with its trace on the first `samples` ranges of the test
 // part (all of them when fewer), started as the paper does from d̂ = 1ᵀy / K.
-nlohmann::json write_em_test_trace(const std::filesystem::path& directory, const MeasuredData& test,
-                                   const Compensation& compensation,
+nlohmann::json write_em_test_trace(const std::filesystem::path& directory,
+                                   const calibration::MeasuredData& test,
+                                   const calibration::Compensation& compensation,
                                    const core::MixtureParameters& mixture, Eigen::Index samples);
 
 // Fig. 15: the wall time of EM testing (the bias H θ̂ from t̂^j, then `steps` iterations of
@@ -53,13 +55,14 @@ nlohmann::json write_em_test_trace(const std::filesystem::path& directory, const
 // whose training fails (a singular normal matrix on data spanning few temperatures) is left out,
 // its reason in the returned "left_out".
 nlohmann::json write_em_test_cost(const std::filesystem::path& directory,
-                                  const TrainingResiduals& training, const MeasuredData& test,
-                                  const Compensation& compensation,
+                                  const TrainingResiduals& training,
+                                  const calibration::MeasuredData& test,
+                                  const calibration::Compensation& compensation,
                                   const std::vector<int>& fourier_orders, double f0_per_c,
                                   const core::EmTrainOptions& em, int steps);
 
 // Fig. 18-19: the error moments of the three estimators of §8.4 for each window length.
 void write_error_moments(const std::filesystem::path& directory,
-                         const std::vector<WindowEvaluation>& evaluations);
+                         const std::vector<calibration::WindowEvaluation>& evaluations);
 
 }  // namespace tofcomp::cli

@@ -30,7 +30,7 @@ std::string thermal_line(const core::ThermalParameters& p) {
 
 }  // namespace
 
-nlohmann::json to_json(const ThermalFit& fit) {
+nlohmann::json to_json(const calibration::ThermalFit& fit) {
   nlohmann::json j = {{"algorithm1", thermal_json(fit.algorithm1)},
                       {"identified", thermal_json(fit.pem.parameters)},
                       {"pem_iterations", fit.pem.iterations},
@@ -45,7 +45,7 @@ nlohmann::json to_json(const ThermalFit& fit) {
   return j;
 }
 
-nlohmann::json to_json(const io::Calibration& c) {
+nlohmann::json to_json(const core::Calibration& c) {
   nlohmann::json modes = nlohmann::json::array();
   for (int i = 0; i < c.model.noise.modes(); ++i) {
     modes.push_back({{"offset_mm", c.model.noise.mean[i]},
@@ -61,7 +61,7 @@ nlohmann::json to_json(const io::Calibration& c) {
           {"data_set", c.provenance.data_set}};
 }
 
-nlohmann::json to_json(const std::vector<WindowEvaluation>& evaluations) {
+nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluations) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& e : evaluations) {
     nlohmann::json j = {{"window", e.window}, {"windows", e.estimates.start.size()}};
@@ -80,7 +80,7 @@ nlohmann::json to_json(const std::vector<WindowEvaluation>& evaluations) {
   return out;
 }
 
-std::string thermal_fit_text(const ThermalFit& fit) {
+std::string thermal_fit_text(const calibration::ThermalFit& fit) {
   std::string out;
   out += "thermal model (§3)\n";
   out += "  Algorithm 1 (datasheet): " + thermal_line(fit.algorithm1) + "\n";
@@ -97,7 +97,7 @@ std::string thermal_fit_text(const ThermalFit& fit) {
   return out;
 }
 
-std::string calibration_text(const io::Calibration& c) {
+std::string calibration_text(const core::Calibration& c) {
   std::string out = "measurement model (Eq. 8): basis " + c.model.basis.describe() + "\n";
   for (int i = 0; i < c.model.noise.modes(); ++i) {
     out += fmt::format("  mode {}: offset {:+.3f} mm, std {:.3f} mm, weight {:.3f}\n", i + 1,
@@ -107,7 +107,7 @@ std::string calibration_text(const io::Calibration& c) {
   return out;
 }
 
-std::string window_table_text(const std::vector<WindowEvaluation>& evaluations) {
+std::string window_table_text(const std::vector<calibration::WindowEvaluation>& evaluations) {
   std::string out;
   out += fmt::format("{:>7} {:>8}  {:<22} {:>9} {:>9} {:>11} {:>9}\n", "window", "windows",
                      "estimator", "ME mm", "MAE mm", "var|e| mm2", "RMSE mm");

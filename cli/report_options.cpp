@@ -4,9 +4,10 @@
 
 namespace tofcomp::cli {
 
-void ReportOptions::write_if_requested(const MeasuredData& measured, const TrainSettings& settings,
+void ReportOptions::write_if_requested(const calibration::MeasuredData& measured,
+                                       const calibration::TrainSettings& settings,
                                        const nlohmann::json& diagnosis,
-                                       const io::Calibration& diagnosed,
+                                       const core::Calibration& diagnosed,
                                        const std::vector<Eigen::Index>& windows,
                                        bool show_progress) const {
   if (directory.empty()) return;

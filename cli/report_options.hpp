@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "cli/measured_data.hpp"
-#include "cli/pipeline.hpp"
+#include "calibration/measured_data.hpp"
+#include "calibration/training.hpp"
 
 namespace tofcomp::cli {
 
@@ -18,8 +18,9 @@ struct ReportOptions {
   std::string directory;  // empty: no report
   // Writes the report of `diagnosis` into `directory` when one was asked for; otherwise nothing.
   // `windows`: the lengths of Fig. 16-17 and of the error table (diagnose's --windows).
-  void write_if_requested(const MeasuredData& measured, const TrainSettings& settings,
-                          const nlohmann::json& diagnosis, const io::Calibration& diagnosed,
+  void write_if_requested(const calibration::MeasuredData& measured,
+                          const calibration::TrainSettings& settings,
+                          const nlohmann::json& diagnosis, const core::Calibration& diagnosed,
                           const std::vector<Eigen::Index>& windows, bool show_progress) const;
 };
 

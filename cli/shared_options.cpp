@@ -3,15 +3,15 @@
 #include <cstdio>
 #include <sstream>
 
-#include "cli/measured_data_csv.hpp"
+#include "calibration/measured_data_reader.hpp"
 #include "core/error.hpp"
 #include "io/datasheet_file.hpp"
 
 namespace tofcomp::cli {
 
-MeasuredData DataOptions::load() const {
+calibration::MeasuredData DataOptions::load() const {
   std::vector<std::string> warnings;
-  MeasuredData data = read_measured_data(file, beam, warnings);
+  calibration::MeasuredData data = calibration::read_measured_data(file, beam, warnings);
   for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   return data;
 }
@@ -25,8 +25,8 @@ std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd) {
   return o;
 }
 
-ThermalFitSettings ThermalOptions::settings() const {
-  ThermalFitSettings s;
+calibration::ThermalFitSettings ThermalOptions::settings() const {
+  calibration::ThermalFitSettings s;
   s.datasheet = io::read_datasheet_file(datasheet);
   s.ambient_fallback_c = ambient_c;
   s.free = core::ThermalParameterMask{false, false, false, false, false};
@@ -81,8 +81,8 @@ std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd) {
   return o;
 }
 
-TrainSettings TrainingOptions::settings() const {
-  TrainSettings s;
+calibration::TrainSettings TrainingOptions::settings() const {
+  calibration::TrainSettings s;
   s.thermal = thermal->settings();
   s.noise = thermal->noise();
   s.basis = basis;

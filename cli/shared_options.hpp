@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "cli/measured_data.hpp"
-#include "cli/pipeline.hpp"
+#include "calibration/measured_data.hpp"
+#include "calibration/training.hpp"
 
 namespace tofcomp::cli {
 
@@ -15,7 +15,7 @@ struct DataOptions {
   std::string file;
   int beam = 0;
   // Reads the beam; prints the reader's warnings on stderr.
-  MeasuredData load() const;
+  calibration::MeasuredData load() const;
 };
 std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd);
 
@@ -24,7 +24,7 @@ struct ThermalOptions {
   std::string free = "r2,c1,c2";
   double ambient_c = 22.0;
   std::vector<double> kalman_noise;  // q_case, q_junction, r; empty: core::ThermalNoise's
-  ThermalFitSettings settings() const;
+  calibration::ThermalFitSettings settings() const;
   core::ThermalNoise noise() const;
 };
 std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd);
@@ -36,7 +36,7 @@ struct TrainingOptions {
   bool paper_m_step = false;
   bool paper_init = false;
   int max_iterations = 1000;
-  TrainSettings settings() const;
+  calibration::TrainSettings settings() const;
 };
 std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd);
 

@@ -2,7 +2,7 @@
 // c_k = exp(−t_on,k / τ), t_on the time since the scanner was last switched on. It is not the
 // junction's heating (Eq. 3 models that) but what settles besides: the laser driver, the
 // receiver. τ is not known in advance: the diagnosis tests, and the extension fits, each τ of
-// a fixed logarithmic grid (core/residual_diagnosis.hpp, cli/model_extension.hpp).
+// a fixed logarithmic grid (core/residual_diagnosis.hpp, calibration/model_extension.hpp).
 #pragma once
 
 #include <Eigen/Core>

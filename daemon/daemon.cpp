@@ -6,30 +6,32 @@
 #include <csignal>
 
 #include "core/error.hpp"
-#include "daemon/config/daemon_config_adapters.hpp"
-#include "daemon/pipeline_setup.hpp"
 #include "daemon/scan_conversion.hpp"
 #include "hal/sensors/sensor_config.hpp"
 #include "io/calibration_file.hpp"
+#include "settings/daemon_config_adapters.hpp"
+#include "settings/pipeline_setup.hpp"
 
 namespace tofcomp::daemon {
 
 namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
 
-Daemon::Daemon(config::DaemonConfig config, std::filesystem::path config_file)
+Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file)
     : config_(std::move(config)),
       config_file_(std::move(config_file)),
       start_(Clock::now()),
-      pipeline_(daemon::pipeline_settings(config_)) {
+      pipeline_(settings::pipeline_settings(config_)) {
   const bool missing =
       !config_.calibration.file.empty() && !std::filesystem::exists(config_.calibration.file);
-  if (missing && config_.recalibration.trigger == config::RecalibrationTrigger::AtStartIfMissing) {
+  if (missing &&
+      config_.recalibration.trigger == settings::RecalibrationTrigger::AtStartIfMissing) {
     spdlog::warn("calibration {} missing: recalibrating at start",
                  config_.calibration.file.string());
     use_calibration(nullptr, "none");
   } else {
-    use_calibration(read_configured_calibration(config_), config_.calibration.file.string());
+    use_calibration(settings::read_configured_calibration(config_),
+                    config_.calibration.file.string());
   }
   start_parts();
 }
@@ -81,7 +83,7 @@ void Daemon::record(const std::function<void(Recorder&)>& write) {
 }
 
 // Swaps a calibration in (on the loop, between two scans: no scan is lost or mixed).
-void Daemon::use_calibration(std::shared_ptr<const io::Calibration> calibration,
+void Daemon::use_calibration(std::shared_ptr<const core::Calibration> calibration,
                              const std::string& source) {
   if (!calibration) {
     if (calibration_id_ != 0) pipeline_.clear_calibration();
@@ -93,7 +95,7 @@ void Daemon::use_calibration(std::shared_ptr<const io::Calibration> calibration,
   ++calibration_id_;
   ++counters_.calibrations_swapped;
   calibration_source_ = source;
-  const io::Calibration* in_use = pipeline_.calibration();
+  const core::Calibration* in_use = pipeline_.calibration();
   spdlog::info("calibration {} in use, from {}{}", calibration_id_, source,
                in_use && in_use->extension
                    ? ", with the " + io::effect_token(in_use->extension->effect) + " extension"
@@ -103,7 +105,7 @@ void Daemon::use_calibration(std::shared_ptr<const io::Calibration> calibration,
 void Daemon::start_parts() {
   std::string device;
   if (config_.emulator.enabled) {
-    emulator_ = std::make_unique<sim::lms200::Emulator>(config::emulator_settings(config_));
+    emulator_ = std::make_unique<sim::lms200::Emulator>(settings::emulator_settings(config_));
     if (!config_.emulator.recording.empty()) {
       // The recorded case readings and power changes, at their recorded times, in place of the
       // sensor poll and the emulator's power state.
@@ -123,7 +125,7 @@ void Daemon::start_parts() {
     spdlog::info("emulated LMS 200 ({}) on {}", config_.emulator.scenario.string(), device);
   }
   driver_ = std::make_unique<hal::lms2xx::Lms2xxDriver>(
-      io_, config::driver_settings(config_.link, device),
+      io_, settings::driver_settings(config_.link, device),
       [this](const hal::lms2xx::HostScan& s) { on_scan(s); },
       [this](hal::lms2xx::LinkState state, const std::string& why) { on_link_state(state, why); });
 
@@ -187,10 +189,10 @@ int Daemon::run() {
   schedule_housekeeping();
   set_status("waiting for the first scan");
   if (calibration_id_ == 0 &&
-      config_.recalibration.trigger == config::RecalibrationTrigger::AtStartIfMissing) {
-    if (config_.recalibration.source == config::RecalibrationSource::Recording) {
+      config_.recalibration.trigger == settings::RecalibrationTrigger::AtStartIfMissing) {
+    if (config_.recalibration.source == settings::RecalibrationSource::Recording) {
       start_recalibration(config_.recalibration.data, 0);
-    } else if (config_.recalibration.source == config::RecalibrationSource::PowerCycleRun) {
+    } else if (config_.recalibration.source == settings::RecalibrationSource::PowerCycleRun) {
       const std::string refused = start_power_cycle_run();
       if (!refused.empty()) spdlog::error("recalibration at start: {}", refused);
     }
@@ -315,7 +317,7 @@ void Daemon::on_scan(const hal::lms2xx::HostScan& host) {
   const std::optional<double> recorded = playback_ ? playback_->scan_arrived(raw) : std::nullopt;
   if (playback_ && !recorded) spdlog::warn("scan {} is not one the playback sent", host.sequence);
   // Scans that arrived in one read share a timestamp; each gets a time of its own, so that a
-  // recording keeps them apart (realtime/recording_replay.hpp).
+  // recording keeps them apart (io/recording_format.hpp).
   double t = recorded ? std::max(*recorded, last_event_time_s_) : event_time(host.received);
   if (t <= last_scan_time_s_) t = std::nextafter(last_scan_time_s_, INFINITY);
   last_scan_time_s_ = t;

@@ -18,7 +18,6 @@
 #include <string>
 #include <thread>
 
-#include "daemon/config/daemon_config.hpp"
 #include "daemon/playback_feed.hpp"
 #include "daemon/power_cycle_schedule.hpp"
 #include "daemon/recorder.hpp"
@@ -31,6 +30,7 @@
 #include "io/calibration_file.hpp"
 #include "ipc/ring/ring_writer.hpp"
 #include "realtime/compensation_pipeline.hpp"
+#include "settings/daemon_config.hpp"
 #include "sim/lms200/emulator.hpp"
 
 namespace tofcomp::daemon {
@@ -53,7 +53,7 @@ class Daemon : public socket::SocketRequestHandler {
   // config_file: where reloads read from; empty: the configuration is the built-in default and
   // a reload re-reads that. Throws core::Error (naming what) when a part cannot start: the
   // calibration file, the ring, the socket, the emulator, the sensor backend.
-  Daemon(config::DaemonConfig config, std::filesystem::path config_file);
+  Daemon(settings::DaemonConfig config, std::filesystem::path config_file);
   ~Daemon() override;
 
   // Runs until SIGTERM or SIGINT (or stop()); returns the exit status.
@@ -83,7 +83,7 @@ class Daemon : public socket::SocketRequestHandler {
   void on_link_state(hal::lms2xx::LinkState state, const std::string& why);
   void watch_signals();
   void schedule_housekeeping();
-  void use_calibration(std::shared_ptr<const io::Calibration> calibration,
+  void use_calibration(std::shared_ptr<const core::Calibration> calibration,
                        const std::string& source);
   void finish_recalibration();
   void set_status(const std::string& text);
@@ -91,7 +91,7 @@ class Daemon : public socket::SocketRequestHandler {
   boost::asio::io_context io_;
   boost::asio::signal_set signals_{io_};
   boost::asio::steady_timer housekeeping_{io_};
-  config::DaemonConfig config_;
+  settings::DaemonConfig config_;
   std::filesystem::path config_file_;
   std::chrono::steady_clock::time_point start_;
   service::SystemdNotifier notifier_;
@@ -126,7 +126,7 @@ class Daemon : public socket::SocketRequestHandler {
   // Recalibration: one worker at a time; its result is taken on the loop.
   struct RecalibrationOutcome {
     std::string error;  // empty on success
-    std::shared_ptr<const io::Calibration> calibration;
+    std::shared_ptr<const core::Calibration> calibration;
     std::filesystem::path file;
   };
   void start_recalibration(std::filesystem::path data, int beam);
@@ -140,8 +140,8 @@ class Daemon : public socket::SocketRequestHandler {
   std::unique_ptr<hal::PowerSwitch> power_switch_;  // made at the first run
   std::unique_ptr<Recorder> run_recorder_;
   std::unique_ptr<PowerCycleSchedule> run_;
-  config::PowerCycleRunConfig run_config_;  // the running one's (a reload may change the config)
-  bool switched_off_ = false;               // the daemon switched the scanner off
+  settings::PowerCycleRunConfig run_config_;  // the running one's (a reload may change the config)
+  bool switched_off_ = false;                 // the daemon switched the scanner off
   std::thread worker_;
   bool worker_running_ = false;
   std::mutex outcome_mutex_;

@@ -39,7 +39,7 @@ hal::PowerSwitch& Daemon::power_switch() {
 }
 
 std::string Daemon::start_power_cycle_run() {
-  const config::PowerCycleRunConfig run = config_.recalibration.power_cycle_run;
+  const settings::PowerCycleRunConfig run = config_.recalibration.power_cycle_run;
   try {
     hal::PowerSwitch& power = power_switch();
     RecorderSettings settings;

@@ -4,14 +4,14 @@
 
 #include <cmath>
 
-#include "cli/measured_data_csv.hpp"
-#include "cli/pipeline.hpp"
+#include "calibration/measured_data_reader.hpp"
+#include "calibration/training.hpp"
 #include "core/error.hpp"
-#include "daemon/config/daemon_config_yaml.hpp"
-#include "daemon/config/embedded_default_config.hpp"
 #include "daemon/daemon.hpp"
-#include "daemon/pipeline_setup.hpp"
 #include "io/datasheet_file.hpp"
+#include "settings/daemon_config_yaml.hpp"
+#include "settings/embedded_default_config.hpp"
+#include "settings/pipeline_setup.hpp"
 
 namespace tofcomp::daemon {
 
@@ -25,7 +25,7 @@ nlohmann::json number_or_null(double value) {
 }
 
 // The effect the calibration's model extension models (its extension.effect), or null.
-nlohmann::json extension_in_use(const io::Calibration* calibration) {
+nlohmann::json extension_in_use(const core::Calibration* calibration) {
   if (!calibration || !calibration->extension) return nullptr;
   return io::effect_token(calibration->extension->effect);
 }
@@ -109,12 +109,12 @@ socket::ReloadResult Daemon::reload() {
   socket::ReloadResult result;
   try {
     // Everything that can fail is read before anything changes.
-    config::DaemonConfig next = config_file_.empty() ? config::embedded_default_config()
-                                                     : config::load_daemon_config(config_file_);
-    auto calibration = read_configured_calibration(next);
-    const auto restart = config::keys_needing_restart(config_, next);
+    settings::DaemonConfig next = config_file_.empty() ? settings::embedded_default_config()
+                                                       : settings::load_daemon_config(config_file_);
+    auto calibration = settings::read_configured_calibration(next);
+    const auto restart = settings::keys_needing_restart(config_, next);
 
-    pipeline_.set_settings(pipeline_settings(next));
+    pipeline_.set_settings(settings::pipeline_settings(next));
     use_calibration(std::move(calibration), next.calibration.file.string());
     spdlog::set_level(next.log.level);
     if (next.recording != config_.recording) {
@@ -125,7 +125,7 @@ socket::ReloadResult Daemon::reload() {
       }
     }
     // Keys that need a restart keep their running values until then.
-    config::DaemonConfig applied = next;
+    settings::DaemonConfig applied = next;
     applied.link = config_.link;
     applied.emulator = config_.emulator;
     applied.case_sensor = config_.case_sensor;
@@ -170,14 +170,14 @@ socket::RecalibrationResult Daemon::recalibrate(const nlohmann::json& args) {
     return r;
   }
   switch (config_.recalibration.source) {
-    case config::RecalibrationSource::None:
+    case settings::RecalibrationSource::None:
       r.message = "recalibration.source is none in " + config_.source +
                   ": set it to recording (and recalibration.recording.data) or power_cycle_run "
                   "to recalibrate";
       return r;
-    case config::RecalibrationSource::Recording:
+    case settings::RecalibrationSource::Recording:
       break;
-    case config::RecalibrationSource::PowerCycleRun:
+    case settings::RecalibrationSource::PowerCycleRun:
       if (!args.empty()) {
         r.message =
             "args.recording applies to recalibration.source recording; the source is "
@@ -215,12 +215,13 @@ void Daemon::start_recalibration(std::filesystem::path data, int beam) {
     try {
       if (output.empty()) throw core::Error("no calibration file to write (calibration.file)");
       std::vector<std::string> warnings;
-      const cli::MeasuredData measured = cli::read_measured_data(data.string(), beam, warnings);
-      cli::TrainSettings settings;
+      const calibration::MeasuredData measured =
+          calibration::read_measured_data(data.string(), beam, warnings);
+      calibration::TrainSettings settings;
       settings.thermal.datasheet = io::read_datasheet_file(datasheet.string());
-      const cli::Training trained = cli::train_calibration(measured, settings);
+      const calibration::Training trained = calibration::train_calibration(measured, settings);
       io::write_calibration_file(output.string(), trained.calibration);
-      outcome.calibration = std::make_shared<const io::Calibration>(trained.calibration);
+      outcome.calibration = std::make_shared<const core::Calibration>(trained.calibration);
     } catch (const std::exception& e) {
       outcome.error = e.what();
     }

@@ -12,11 +12,11 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "daemon/config/daemon_config_yaml.hpp"
-#include "daemon/config/embedded_default_config.hpp"
 #include "daemon/daemon.hpp"
-#include "daemon/pipeline_setup.hpp"
 #include "daemon/service/logging.hpp"
+#include "settings/daemon_config_yaml.hpp"
+#include "settings/embedded_default_config.hpp"
+#include "settings/pipeline_setup.hpp"
 
 int main(int argc, char** argv) {
   using namespace tofcomp::daemon;
@@ -38,21 +38,22 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   if (print_default) {
-    std::fwrite(config::embedded_default_config_text().data(), 1,
-                config::embedded_default_config_text().size(), stdout);
+    std::fwrite(tofcomp::settings::embedded_default_config_text().data(), 1,
+                tofcomp::settings::embedded_default_config_text().size(), stdout);
     return 0;
   }
   bool logging = false;  // until then errors go to stderr alone
   try {
-    const config::DaemonConfig cfg = config_file.empty() ? config::embedded_default_config()
-                                                         : config::load_daemon_config(config_file);
+    const tofcomp::settings::DaemonConfig cfg =
+        config_file.empty() ? tofcomp::settings::embedded_default_config()
+                            : tofcomp::settings::load_daemon_config(config_file);
     if (check_only) {
       // The calibration it names, when it exists, as the pipeline would take it (an extension
       // included): a file the daemon would refuse fails the check.
       std::string calibration;
       if (!cfg.calibration.file.empty() && std::filesystem::exists(cfg.calibration.file)) {
-        auto loaded = read_configured_calibration(cfg);
-        tofcomp::realtime::CompensationPipeline pipeline(pipeline_settings(cfg));
+        auto loaded = tofcomp::settings::read_configured_calibration(cfg);
+        tofcomp::realtime::CompensationPipeline pipeline(tofcomp::settings::pipeline_settings(cfg));
         pipeline.set_calibration(loaded, 1);
         calibration = "; calibration " + cfg.calibration.file.string() +
                       (loaded->extension

@@ -4,7 +4,7 @@
 #include <system_error>
 
 #include "core/error.hpp"
-#include "realtime/recording_replay.hpp"
+#include "io/recording_format.hpp"
 
 namespace tofcomp::daemon {
 namespace {
@@ -71,15 +71,14 @@ void Recorder::open_file(const realtime::RawScan& first) {
       path = settings_.directory / ("tofcompd-" + utc_stamp() + "-" + std::to_string(n) + ".csv");
     }
   }
-  std::vector<std::string> columns = realtime::recording_columns();
+  std::vector<std::string> columns = io::recording_columns();
   if (settings_.true_range_mm) columns.emplace_back("true_range_mm");
   auto out = std::make_unique<std::ofstream>(path, std::ios::binary);
   if (!*out) throw core::Error("recording: cannot create " + path.string());
   const bool first_file = counters_.files == 0;
   writer_ = std::make_unique<io::MeasurementCsvWriter>(
       *out,
-      realtime::recording_metadata(first.ranges_mm.size(), first.start_angle_deg,
-                                   first.resolution_deg),
+      io::recording_metadata(first.ranges_mm.size(), first.start_angle_deg, first.resolution_deg),
       std::move(columns), path.string());
   out_ = std::move(out);
   current_path_ = path;
@@ -101,7 +100,7 @@ void Recorder::open_file(const realtime::RawScan& first) {
 void Recorder::scan(const realtime::RawScan& scan) {
   if (!writer_ || rotation_due()) open_file(scan);
   std::vector<io::MeasurementRow> rows;
-  realtime::append_scan_rows(scan, rows);
+  io::append_scan_rows(scan.time_s, scan.ranges_mm, scan.no_echo, rows);
   for (auto& row : rows) {
     if (settings_.beams &&
         (*row.beam < settings_.beams->first || *row.beam > settings_.beams->second)) {

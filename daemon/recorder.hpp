@@ -1,4 +1,4 @@
-// The daemon's recording of what it took in (realtime/recording_replay.hpp's format): case
+// The daemon's recording of what it took in (io/recording_format.hpp): case
 // readings, power changes and raw scans, in the order the pipeline took them, into the
 // interchange CSV, one file per rotation period in the configured directory. Each file starts
 // with the last case reading and power state, so it can be trained on or replayed alone; the

@@ -7,11 +7,11 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "daemon/config/daemon_config_yaml.hpp"
+#include "settings/daemon_config_yaml.hpp"
 
 namespace {
 
-using namespace tofcomp::daemon::config;
+using namespace tofcomp::settings;
 
 void check(bool condition) {
   if (!condition) std::abort();

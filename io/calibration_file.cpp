@@ -167,10 +167,10 @@ Eigen::MatrixXd read_matrix(const YamlMap& parent, std::string_view key) {
 }
 
 core::ModelExtension read_extension(const YamlMap& top, const core::MixtureParameters& modes) {
-  const YamlMap x(top.node("extension"), "extension",
-                  {"effect", "covariate", "covariate_mm", "time_constant_s", "bin_edges_c",
-                   "bin_weights",
-                   "bin_variances_mm2", "transition", "outlier_weight", "outlier_span_mm"});
+  const YamlMap x(
+      top.node("extension"), "extension",
+      {"effect", "covariate", "covariate_mm", "time_constant_s", "bin_edges_c", "bin_weights",
+       "bin_variances_mm2", "transition", "outlier_weight", "outlier_span_mm"});
   core::ModelExtension e;
   const std::string effect = x.text("effect");
   bool known = false;
@@ -180,9 +180,9 @@ core::ModelExtension read_extension(const YamlMap& top, const core::MixtureParam
   if (!known) x.fail("effect", "'" + effect + "' is not an effect with an extension");
   const std::string covariate = x.text_or("covariate", "none");
   bool covariate_known = false;
-  for (const core::Covariate c : {core::Covariate::None, core::Covariate::TimeHours,
-                                  core::Covariate::HeatingRateCPerMinute,
-                                  core::Covariate::WarmUp}) {
+  for (const core::Covariate c :
+       {core::Covariate::None, core::Covariate::TimeHours, core::Covariate::HeatingRateCPerMinute,
+        core::Covariate::WarmUp}) {
     if (covariate == core::covariate_name(c)) e.covariate = c, covariate_known = true;
   }
   if (!covariate_known) {
@@ -224,7 +224,7 @@ std::string effect_token(core::EffectKind kind) {
   return token;
 }
 
-std::string calibration_to_yaml(const Calibration& c) {
+std::string calibration_to_yaml(const core::Calibration& c) {
   c.model.validate();
   YAML::Emitter out;
   precise(out);
@@ -274,11 +274,11 @@ std::string calibration_to_yaml(const Calibration& c) {
   return std::string(out.c_str()) + "\n";
 }
 
-void write_calibration_file(const std::string& file, const Calibration& calibration) {
+void write_calibration_file(const std::string& file, const core::Calibration& calibration) {
   write_file_atomically(file, calibration_to_yaml(calibration));
 }
 
-Calibration read_calibration_file(const std::string& file) {
+core::Calibration read_calibration_file(const std::string& file) {
   try {
     const YAML::Node root = load_yaml_file(file);
     const YamlMap top(root, "",
@@ -292,7 +292,7 @@ Calibration read_calibration_file(const std::string& file) {
       top.fail("version", "is " + std::to_string(version) + "; this tofcomp reads version " +
                               std::to_string(kCalibrationVersion) + " only");
     }
-    Calibration c;
+    core::Calibration c;
     const YamlMap p(top.node("provenance"), "provenance",
                     {"data_set", "created_utc", "software_version", "samples", "notes"});
     c.provenance.data_set = p.text("data_set");

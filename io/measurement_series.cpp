@@ -64,8 +64,8 @@ TimedSamples ambient_temperatures(const MeasurementTable& table) {
   return samples_of(table, &MeasurementRow::ambient_c);
 }
 
-std::vector<PowerChange> power_changes(const MeasurementTable& table) {
-  std::vector<PowerChange> changes;
+std::vector<core::PowerChange> power_changes(const MeasurementTable& table) {
+  std::vector<core::PowerChange> changes;
   bool on = true;
   for (const MeasurementRow& row : table.rows) {
     if (row.power && *row.power != on) {

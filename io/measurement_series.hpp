@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/power_change.hpp"
 #include "io/measurement_table.hpp"
 
 namespace tofcomp::io {
@@ -29,12 +30,6 @@ struct TimedSamples {
 
 // The power switching: only rows that change the power in force (on before the first change)
 // are events; a row setting the power it already has is none.
-struct PowerChange {
-  double time_s = 0.0;
-  bool on = true;
-
-  bool operator==(const PowerChange&) const = default;
-};
 
 BeamRanges beam_ranges(const MeasurementTable& table, int beam);
 
@@ -45,6 +40,6 @@ TimedSamples case_temperatures(const MeasurementTable& table);
 
 TimedSamples ambient_temperatures(const MeasurementTable& table);
 
-std::vector<PowerChange> power_changes(const MeasurementTable& table);
+std::vector<core::PowerChange> power_changes(const MeasurementTable& table);
 
 }  // namespace tofcomp::io

@@ -9,6 +9,8 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace tofcomp::ipc {
@@ -24,6 +26,23 @@ enum BeamFlag : std::uint16_t {
   kBeamChangeDetected = 1u << 4,    // this range restarted the window (the distance moved)
   kBeamOutlier = 1u << 5,  // the calibration's outlier component takes this range (P > 0.5)
 };
+
+// The flags' names, by bit (the socket's flag_names, shm-dump's and replay's flags column).
+inline constexpr std::array<std::string_view, 6> kBeamFlagNames{
+    "no_echo",           "uncalibrated",    "temperature_stale",
+    "window_restarting", "change_detected", "outlier"};
+
+// The names of the set bits, lowest bit first; "bitN" for a bit without a name.
+inline std::vector<std::string> beam_flag_names(std::uint16_t flags) {
+  constexpr unsigned kFlagBits = 16;
+  std::vector<std::string> names;
+  for (unsigned bit = 0; bit < kFlagBits; ++bit) {
+    if ((flags & (1u << bit)) == 0) continue;
+    names.emplace_back(bit < kBeamFlagNames.size() ? std::string(kBeamFlagNames[bit])
+                                                   : "bit" + std::to_string(bit));
+  }
+  return names;
+}
 
 struct BeamValue {
   double raw_mm = 0.0;

@@ -14,7 +14,7 @@ void CompensationPipeline::restart_tracker() {
   if (last_reading_) tracker_->add_case_reading(last_reading_->first, last_reading_->second);
 }
 
-void CompensationPipeline::set_calibration(std::shared_ptr<const io::Calibration> calibration,
+void CompensationPipeline::set_calibration(std::shared_ptr<const core::Calibration> calibration,
                                            std::uint32_t id) {
   JunctionTracker check(*calibration, settings_.junction);  // throws before anything changes
   compensator_.set_calibration(calibration, id);

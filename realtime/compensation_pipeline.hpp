@@ -31,7 +31,7 @@ class CompensationPipeline {
   // Swaps the calibration in between two scans (id > 0, increasing): the junction filter
   // restarts on the new thermal model from the last case reading, every window restarts.
   // Throws core::InvalidInput for a model the pipeline cannot use; the old one then stays.
-  void set_calibration(std::shared_ptr<const io::Calibration> calibration, std::uint32_t id);
+  void set_calibration(std::shared_ptr<const core::Calibration> calibration, std::uint32_t id);
   // Back to publishing raw ranges, flagged uncalibrated.
   void clear_calibration();
   // New settings (a reload): windows restart; the junction filter keeps its state unless its
@@ -43,7 +43,7 @@ class CompensationPipeline {
   // The scan compensated, numbered from 0 without gaps.
   ipc::CompensatedScan on_scan(const RawScan& scan);
 
-  const io::Calibration* calibration() const { return compensator_.calibration(); }
+  const core::Calibration* calibration() const { return compensator_.calibration(); }
   std::uint64_t scans() const { return next_sequence_; }
 
  private:
@@ -51,7 +51,7 @@ class CompensationPipeline {
 
   PipelineSettings settings_;
   ScanCompensator compensator_;
-  std::shared_ptr<const io::Calibration> calibration_;
+  std::shared_ptr<const core::Calibration> calibration_;
   std::optional<JunctionTracker> tracker_;
   std::optional<std::pair<double, double>> last_reading_;  // time_s, case_c
   std::optional<std::pair<double, bool>> power_;           // time_s of the last change, state

@@ -7,7 +7,7 @@
 
 namespace tofcomp::realtime {
 
-JunctionTracker::JunctionTracker(const io::Calibration& calibration,
+JunctionTracker::JunctionTracker(const core::Calibration& calibration,
                                  JunctionTrackerSettings settings)
     : calibration_(calibration), settings_(settings) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };

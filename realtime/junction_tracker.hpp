@@ -16,9 +16,9 @@
 
 #include <optional>
 
+#include "core/calibration.hpp"
 #include "core/kalman.hpp"
 #include "core/thermal_model.hpp"
-#include "io/calibration_file.hpp"
 
 namespace tofcomp::realtime {
 
@@ -45,7 +45,7 @@ struct JunctionEstimate {
 class JunctionTracker {
  public:
   // Throws core::InvalidInput for settings that are not positive and finite.
-  JunctionTracker(const io::Calibration& calibration, JunctionTrackerSettings settings = {});
+  JunctionTracker(const core::Calibration& calibration, JunctionTrackerSettings settings = {});
 
   // A valid case reading t^s at time_s. A reading older than the filter's time is taken at the
   // filter's time (a step of zero). Throws core::InvalidInput on a non-finite value.
@@ -61,7 +61,7 @@ class JunctionTracker {
  private:
   void advance_to(double time_s);
 
-  io::Calibration calibration_;
+  core::Calibration calibration_;
   core::ContinuousThermalModel continuous_;
   JunctionTrackerSettings settings_;
   std::optional<core::ThermalKalmanFilter> filter_;

@@ -19,12 +19,7 @@ int junction_bin(const core::ExtendedMixture& noise, double junction_c) {
 
 }  // namespace
 
-core::ExtendedMixture noise_of(const io::Calibration& calibration) {
-  return calibration.extension ? calibration.extension->noise
-                               : core::without_extensions(calibration.model.noise);
-}
-
-double covariate_bias(const io::Calibration& calibration, double time_s,
+double covariate_bias(const core::Calibration& calibration, double time_s,
                       const JunctionEstimate& junction) {
   if (!calibration.extension) return 0.0;
   return calibration.extension->covariate_bias_at(time_s, junction.heating_rate_c_per_min,
@@ -33,7 +28,7 @@ double covariate_bias(const io::Calibration& calibration, double time_s,
 
 ScanCompensator::ScanCompensator(core::SlidingWindowOptions window) : window_options_(window) {}
 
-void ScanCompensator::set_calibration(std::shared_ptr<const io::Calibration> calibration,
+void ScanCompensator::set_calibration(std::shared_ptr<const core::Calibration> calibration,
                                       std::uint32_t id) {
   if (!calibration) throw core::InvalidInput("scan compensator: no calibration given");
   calibration->model.validate();
@@ -51,7 +46,7 @@ void ScanCompensator::set_calibration(std::shared_ptr<const io::Calibration> cal
                                std::to_string(ipc::kMaxModes));
     }
   }
-  core::ExtendedMixture noise = noise_of(*calibration);
+  core::ExtendedMixture noise = core::compensation_noise(*calibration);
   // Checks the window options against this noise before anything changes.
   core::SlidingWindowEstimator check(noise, window_options_);
   noise_ = std::move(noise);

@@ -7,8 +7,8 @@
 // that says why, and nothing else (never a NaN where a number is expected: the flag marks it).
 //
 // A calibration with a model extension (core/model_extension.hpp) is applied as offline
-// (cli/pipeline.cpp): the scan's bias gains γ·c, c the hours since the pipeline's clock origin
-// (RawScan::time_s / 3600), the junction's heating rate or the warm-up exp(−t_on/τ) from the
+// (calibration/compensation.cpp): the scan's bias gains γ·c, c the hours since the pipeline's clock
+// origin (RawScan::time_s / 3600), the junction's heating rate or the warm-up exp(−t_on/τ) from the
 // time since the last power-on (both in JunctionEstimate), and every window
 // tests d under the extended noise, each range with the temperature bin of the scan's junction
 // estimate. A range the outlier component takes (P > 0.5) is flagged kBeamOutlier.
@@ -18,19 +18,17 @@
 #include <memory>
 #include <vector>
 
+#include "core/calibration.hpp"
 #include "core/sliding_window_estimator.hpp"
-#include "io/calibration_file.hpp"
 #include "ipc/compensated_scan.hpp"
 #include "realtime/junction_tracker.hpp"
 #include "realtime/raw_scan.hpp"
 
 namespace tofcomp::realtime {
 
-// The calibration's noise: its extension's, else the paper's mixture without extensions.
-core::ExtendedMixture noise_of(const io::Calibration& calibration);
 // γ·c of the calibration's extension for a scan at time_s (the pipeline's clock) with this
 // junction estimate; 0 without an extension or a covariate.
-double covariate_bias(const io::Calibration& calibration, double time_s,
+double covariate_bias(const core::Calibration& calibration, double time_s,
                       const JunctionEstimate& junction);
 
 class ScanCompensator {
@@ -40,11 +38,11 @@ class ScanCompensator {
   // A new calibration (id > 0, increasing): every beam's window restarts under its modes.
   // Throws core::InvalidInput when the model is invalid or has more modes than the published
   // record carries (ipc::kMaxModes).
-  void set_calibration(std::shared_ptr<const io::Calibration> calibration, std::uint32_t id);
+  void set_calibration(std::shared_ptr<const core::Calibration> calibration, std::uint32_t id);
   void clear_calibration();
   // New window settings: every window restarts.
   void set_window_options(const core::SlidingWindowOptions& window);
-  const io::Calibration* calibration() const { return calibration_.get(); }
+  const core::Calibration* calibration() const { return calibration_.get(); }
 
   // sequence: the published scan counter. Throws core::InvalidInput when ranges_mm and no_echo
   // differ in length or a range with an echo is not finite.
@@ -55,7 +53,7 @@ class ScanCompensator {
   void rebuild_windows(std::size_t beams);
 
   core::SlidingWindowOptions window_options_;
-  std::shared_ptr<const io::Calibration> calibration_;
+  std::shared_ptr<const core::Calibration> calibration_;
   std::uint32_t calibration_id_ = 0;
   core::ExtendedMixture noise_;                        // the calibration's (extended) noise
   std::vector<core::SlidingWindowEstimator> windows_;  // one per beam, when calibrated

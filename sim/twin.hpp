@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "core/power_change.hpp"
 #include "sim/scenario.hpp"
 
 namespace tofcomp::sim {
@@ -85,10 +86,6 @@ struct TwinSeries {
     double case_c;  // the sensor reading
     double ambient_c;
   };
-  struct PowerChange {
-    double time_s;
-    bool on;
-  };
   struct Range {
     double time_s;
     int beam;
@@ -100,7 +97,7 @@ struct TwinSeries {
     int mode;
   };
   std::vector<Temperature> temperatures;
-  std::vector<PowerChange> power_changes;
+  std::vector<core::PowerChange> power_changes;
   std::vector<Range> ranges;
   int no_echo_count = 0;  // readings beyond the range limit, reported by the device as no echo
 };

@@ -18,7 +18,7 @@ import numpy as np
 from report_style import (MODE_COLOURS, Figure, histogram_bins, legend_right, plt,
                           resolution_mm, save)
 
-RATE_HALF_WINDOW_S = 30.0  # cli/pipeline.cpp: kRateHalfWindowS
+RATE_HALF_WINDOW_S = 30.0  # calibration/diagnosis.cpp: kRateHalfWindowS
 TAIL_Z = 8.0  # core/residual_diagnosis.hpp: DiagnosisOptions::tail_z
 LAGS = 20  # core/residual_diagnosis.hpp: DiagnosisOptions::ljung_box_lags
 WARM_UP_TIME_CONSTANTS_S = [30.0, 60.0, 120.0, 240.0, 480.0, 960.0, 1920.0]  # core/warm_up.hpp

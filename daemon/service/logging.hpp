@@ -6,22 +6,11 @@
 
 #include <string_view>
 
+#include "settings/log_settings.hpp"
+
 namespace tofcomp::daemon::service {
 
-enum class LogTarget {
-  Auto,     // the journal when stderr is connected to it, otherwise stderr
-  Journal,  // sd_journal_send(3)
-  Stderr,   // one formatted line per message on stderr
-};
-
-// "auto", "journal", "stderr", in any case; throws core::InvalidInput naming the bad value
-// otherwise.
-LogTarget parse_log_target(std::string_view name);
-
-// spdlog's level names, in any case: trace, debug, info, warn (or warning), error (or err),
-// critical, off.
-// Throws core::InvalidInput naming the bad value and the accepted ones.
-spdlog::level::level_enum parse_log_level(std::string_view name);
+using settings::LogTarget;
 
 // systemd.exec(5): a service's stderr goes to the journal when JOURNAL_STREAM is set and its
 // "device:inode" (decimal) equals those of the stream. `journal_stream` is the variable's value

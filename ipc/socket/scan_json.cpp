@@ -13,10 +13,6 @@ namespace tofcomp::ipc::socket {
 
 namespace {
 
-constexpr std::array<std::string_view, 6> kFlagNames{"no_echo",           "uncalibrated",
-                                                     "temperature_stale", "window_restarting",
-                                                     "change_detected",   "outlier"};
-
 // Appends JSON text to a string; keys and names are the encoder's own (no escaping needed).
 class JsonText {
  public:
@@ -100,7 +96,7 @@ void encode_beam(JsonText& json, const ipc::BeamValue& beam, std::size_t index) 
   json.integer(beam.flags);
   json.key("flag_names");
   json.open('[');
-  for (const auto& name : flag_names(beam.flags)) json.name(name);
+  for (const auto& name : beam_flag_names(beam.flags)) json.name(name);
   json.close(']');
   json.key("mode_count");
   json.integer(static_cast<unsigned>(beam.mode_count));
@@ -133,16 +129,6 @@ BeamSpan beams_clipped(const std::optional<BeamRange>& wanted, std::size_t beam_
   if (wanted->first >= beam_count) return {wanted->first, 0};
   const std::size_t end = std::min<std::size_t>(std::size_t{wanted->last} + 1, beam_count);
   return {wanted->first, end - wanted->first};
-}
-
-std::vector<std::string> flag_names(std::uint16_t flags) {
-  std::vector<std::string> names;
-  for (unsigned bit = 0; bit < 16; ++bit) {
-    if ((flags & (1u << bit)) == 0) continue;
-    names.emplace_back(bit < kFlagNames.size() ? std::string(kFlagNames[bit])
-                                               : "bit" + std::to_string(bit));
-  }
-  return names;
 }
 
 std::string encode_scan(const ipc::CompensatedScan& scan, BeamSpan span) {

@@ -30,10 +30,6 @@ BeamSpan beams_exactly(const std::optional<BeamRange>& wanted, std::size_t beam_
 // narrower than its range (count 0 when first is beyond the scan).
 BeamSpan beams_clipped(const std::optional<BeamRange>& wanted, std::size_t beam_count);
 
-// The names of the set bits: no_echo, uncalibrated, temperature_stale, window_restarting,
-// change_detected, outlier, and "bitN" for a bit without a name. Lowest bit first.
-std::vector<std::string> flag_names(std::uint16_t flags);
-
 // The scan as one JSON object (no newline). span must lie within scan.beams.
 std::string encode_scan(const ipc::CompensatedScan& scan, BeamSpan span);
 

@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "core/error.hpp"
-#include "realtime/recording_replay.hpp"
+#include "io/recording_format.hpp"
 
 namespace tofcomp::sim::lms200 {
 namespace {
@@ -38,7 +38,7 @@ std::optional<double> first_after(const std::vector<Event>& events, double time_
 }  // namespace
 
 RecordingPlayback::RecordingPlayback(const io::MeasurementTable& table, const std::string& source)
-    : beams_(realtime::read_recording_geometry(table, source).beams) {
+    : beams_(io::read_recording_geometry(table, source).beams) {
   constexpr double kNoEcho = std::numeric_limits<double>::quiet_NaN();
   bool scan_open = false;
   for (std::size_t i = 0; i < table.rows.size(); ++i) {

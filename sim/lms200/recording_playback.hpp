@@ -1,4 +1,4 @@
-// A tofcompd recording (realtime/recording_replay.hpp) played back as the emulated LMS 200's
+// A tofcompd recording (io/recording_format.hpp) played back as the emulated LMS 200's
 // scanner: the recorded scans in file order, the recorded case readings and power changes, on
 // a clock that starts at the recording's first row. The emulator (sim/lms200/emulator.hpp)
 // plays one instead of the digital twin, so that a replay through the emulator feeds the daemon

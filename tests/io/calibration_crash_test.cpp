@@ -37,10 +37,10 @@ namespace fs = std::filesystem;
 
 // Large enough that one write takes a while (a 1016-term basis, 200 kB of notes), with values
 // drawn at full double precision from a seed, so that the two calibrations differ everywhere.
-Calibration make_calibration(char tag, unsigned seed) {
+core::Calibration make_calibration(char tag, unsigned seed) {
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  Calibration c;
+  core::Calibration c;
   c.thermal = {0.18 + 0.01 * uniform(random), 0.5, 60.0, 2000.0, 10.0};
   c.ambient_c = 21.0 + uniform(random);
   c.model.basis = core::Basis(
@@ -61,7 +61,7 @@ Calibration make_calibration(char tag, unsigned seed) {
   return c;
 }
 
-bool identical(const Calibration& x, const Calibration& y) {
+bool identical(const core::Calibration& x, const core::Calibration& y) {
   return x.thermal.r1_k_per_w == y.thermal.r1_k_per_w &&
          x.thermal.r2_k_per_w == y.thermal.r2_k_per_w &&
          x.thermal.c1_j_per_k == y.thermal.c1_j_per_k &&
@@ -84,10 +84,10 @@ enum class Found { First, Second, Neither };
 
 // What the real reader makes of the file: one of the two calibrations, or neither (an error, or
 // values that match neither).
-Found load_and_identify(const fs::path& file, const Calibration& first, const Calibration& second,
+Found load_and_identify(const fs::path& file, const core::Calibration& first, const core::Calibration& second,
                         std::string& error) {
   try {
-    const Calibration loaded = read_calibration_file(file.string());
+    const core::Calibration loaded = read_calibration_file(file.string());
     if (identical(loaded, first)) return Found::First;
     if (identical(loaded, second)) return Found::Second;
     error = "loaded, but matches neither calibration";
@@ -173,8 +173,8 @@ std::set<std::string> others_in(const fs::path& directory, const std::string& ta
 
 TEST(CalibrationCrash, KillDuringAtomicWriteLeavesOneOfTheCompleteCalibrations) {
   constexpr int kRounds = 60;
-  const Calibration first = make_calibration('A', 1);
-  const Calibration second = make_calibration('B', 2);
+  const core::Calibration first = make_calibration('A', 1);
+  const core::Calibration second = make_calibration('B', 2);
   ASSERT_FALSE(identical(first, second));
   const TemporaryDirectory directory;
   const std::string target = "calibration.yaml";
@@ -220,8 +220,8 @@ TEST(CalibrationCrash, KillDuringAtomicWriteLeavesOneOfTheCompleteCalibrations) 
 
 TEST(CalibrationCrash, KillDuringPlainWriteTearsTheFile) {
   constexpr int kRounds = 20;
-  const Calibration first = make_calibration('A', 1);
-  const Calibration second = make_calibration('B', 2);
+  const core::Calibration first = make_calibration('A', 1);
+  const core::Calibration second = make_calibration('B', 2);
   const std::string first_text = calibration_to_yaml(first);
   const std::string second_text = calibration_to_yaml(second);
   const TemporaryDirectory directory;

@@ -12,8 +12,8 @@
 namespace tofcomp::io {
 namespace {
 
-Calibration example() {
-  Calibration c;
+core::Calibration example() {
+  core::Calibration c;
   c.thermal = {0.18, 0.5, 60.0, 2000.0, 10.0};
   c.ambient_c = 21.5;
   c.model.basis = core::Basis(
@@ -41,9 +41,9 @@ std::string read_all(const std::string& file) {
 
 TEST(CalibrationFile, RoundTripIsExact) {
   const std::string file = temp_file("calibration.yaml");
-  const Calibration c = example();
+  const core::Calibration c = example();
   write_calibration_file(file, c);
-  const Calibration back = read_calibration_file(file);
+  const core::Calibration back = read_calibration_file(file);
   EXPECT_EQ(back.model.theta, c.model.theta);
   EXPECT_EQ(back.model.noise.mean, c.model.noise.mean);
   EXPECT_EQ(back.model.noise.variance, c.model.noise.variance);
@@ -101,7 +101,7 @@ TEST(CalibrationFile, ErrorsNameTheFileAndKey) {
 
 // Every part an extension can hold survives the file exactly.
 TEST(CalibrationFile, ExtensionRoundTripIsExact) {
-  Calibration c = example();
+  core::Calibration c = example();
   core::ModelExtension e;
   e.effect = core::EffectKind::TemperatureDependentSpread;
   e.covariate = core::Covariate::HeatingRateCPerMinute;
@@ -116,7 +116,7 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   c.extension = e;
   const std::string file = temp_file("extended.yaml");
   write_calibration_file(file, c);
-  const Calibration back = read_calibration_file(file);
+  const core::Calibration back = read_calibration_file(file);
   ASSERT_TRUE(back.extension.has_value());
   EXPECT_EQ(back.extension->effect, e.effect);
   EXPECT_EQ(back.extension->covariate, e.covariate);
@@ -144,7 +144,7 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   warm_up.noise = core::without_extensions(c.model.noise);
   c.extension = warm_up;
   write_calibration_file(file, c);
-  const Calibration warm = read_calibration_file(file);
+  const core::Calibration warm = read_calibration_file(file);
   EXPECT_EQ(warm.extension->effect, core::EffectKind::WarmUp);
   EXPECT_EQ(warm.extension->covariate, core::Covariate::WarmUp);
   EXPECT_EQ(warm.extension->covariate_mm, warm_up.covariate_mm);
@@ -158,7 +158,7 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
 }
 
 TEST(CalibrationFile, ExtensionErrorsNameTheKey) {
-  Calibration c = example();
+  core::Calibration c = example();
   core::ModelExtension chain;
   chain.effect = core::EffectKind::ModePersistence;
   chain.noise = core::without_extensions(c.model.noise);

@@ -22,13 +22,14 @@ TEST(MeasurementSeries, PowerHoldsUntilSetAgainAndIsOnBeforeTheFirst) {
       "5,3001,1\n"  // on again, in force for its own range
       "6,3002,\n"   // still on
       "7,,0\n");
-  EXPECT_EQ(power_changes(t), (std::vector<PowerChange>{{2.0, false}, {5.0, true}, {7.0, false}}));
+  EXPECT_EQ(power_changes(t),
+            (std::vector<core::PowerChange>{{2.0, false}, {5.0, true}, {7.0, false}}));
   EXPECT_EQ(beam_ranges(t, 0).time_s, (std::vector<double>{0.0, 5.0, 6.0}));
 }
 
 TEST(MeasurementSeries, PowerOffFromTheStart) {
   const MeasurementTable t = parse("time_s,power,case_temp_c\n0,0,21\n10,1,21.5\n");
-  EXPECT_EQ(power_changes(t), (std::vector<PowerChange>{{0.0, false}, {10.0, true}}));
+  EXPECT_EQ(power_changes(t), (std::vector<core::PowerChange>{{0.0, false}, {10.0, true}}));
 }
 
 TEST(MeasurementSeries, TrueRangeHoldsPerBeamUntilSetAgain) {

@@ -11,8 +11,8 @@
 namespace tofcomp::realtime {
 namespace {
 
-std::shared_ptr<io::Calibration> warm_up_calibration(double gamma_mm, double tau_s) {
-  auto c = std::make_shared<io::Calibration>(testing::round_calibration());
+std::shared_ptr<core::Calibration> warm_up_calibration(double gamma_mm, double tau_s) {
+  auto c = std::make_shared<core::Calibration>(testing::round_calibration());
   core::ModelExtension x;
   x.effect = core::EffectKind::WarmUp;
   x.covariate = core::Covariate::WarmUp;

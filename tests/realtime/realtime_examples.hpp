@@ -6,14 +6,14 @@
 
 #include <memory>
 
-#include "io/calibration_file.hpp"
+#include "core/calibration.hpp"
 #include "tests/support/synthetic_measurements.hpp"
 #include "tests/support/thermal_examples.hpp"
 
 namespace tofcomp::testing {
 
-inline io::Calibration round_calibration() {
-  io::Calibration c;
+inline core::Calibration round_calibration() {
+  core::Calibration c;
   c.thermal = round_thermal_parameters();
   c.ambient_c = 22.0;
   c.model.basis = core::Basis(

@@ -44,11 +44,12 @@ void expect_identical(const ipc::CompensatedScan& a, const ipc::CompensatedScan&
 // into the interchange CSV, written to a file, read back and replayed: the replay gives the
 // very numbers the live pipeline gave.
 TEST(RecordingReplay, ReplayEqualsTheLivePipeline) {
-  const auto calibration = std::make_shared<io::Calibration>(testing::round_calibration());
+  const auto calibration = std::make_shared<core::Calibration>(testing::round_calibration());
   CompensationPipeline live;
   live.set_calibration(calibration, 1);
   io::MeasurementTableBuilder recording;
-  for (const auto& m : recording_metadata(5, -90.0, 45.0)) recording.add_metadata(m.key, m.value);
+  for (const auto& m : io::recording_metadata(5, -90.0, 45.0))
+    recording.add_metadata(m.key, m.value);
 
   std::mt19937_64 rng(11);
   std::normal_distribution<double> noise(0.0, 1.0);
@@ -82,7 +83,7 @@ TEST(RecordingReplay, ReplayEqualsTheLivePipeline) {
       scan.no_echo.push_back(tick % 37 == b ? 1 : 0);
     }
     outputs.push_back(live.on_scan(scan));
-    append_scan_rows(scan, rows);
+    io::append_scan_rows(scan.time_s, scan.ranges_mm, scan.no_echo, rows);
   }
   for (const auto& row : rows) recording.append(row);
   const auto file = std::filesystem::temp_directory_path() /
@@ -117,7 +118,7 @@ TEST(RecordingReplay, NamesWhatIsWrongWithARecording) {
         << e.what();
   }
   io::MeasurementTableBuilder outside;
-  for (const auto& m : recording_metadata(3, 0.0, 1.0)) outside.add_metadata(m.key, m.value);
+  for (const auto& m : io::recording_metadata(3, 0.0, 1.0)) outside.add_metadata(m.key, m.value);
   outside.append({.time_s = 0.0, .range_mm = 1000.0, .beam = 3});
   try {
     replay_recording(outside.finish(), "outside.csv", pipeline, [](const ipc::CompensatedScan&) {});

@@ -29,7 +29,7 @@ core::SlidingWindowOptions incremental() {
 // 26 °C (bias 13 mm): the compensated ranges are d plus the noise within its mode, and each
 // beam's window estimates its own d.
 TEST(ScanCompensator, RemovesTheBiasAndTheModeOffset) {
-  const auto calibration = std::make_shared<io::Calibration>(testing::round_calibration());
+  const auto calibration = std::make_shared<core::Calibration>(testing::round_calibration());
   ASSERT_DOUBLE_EQ(calibration->model.bias_at(26.0), 13.0);  // H(t)θ = 0.5 t
   ScanCompensator compensator(incremental());
   compensator.set_calibration(calibration, 1);
@@ -81,7 +81,7 @@ TEST(ScanCompensator, FlagsWhatIsMissing) {
   EXPECT_TRUE(std::isnan(out.beams[0].compensated_mm));
   EXPECT_EQ(out.calibration_id, 0u);
 
-  compensator.set_calibration(std::make_shared<io::Calibration>(testing::round_calibration()), 7);
+  compensator.set_calibration(std::make_shared<core::Calibration>(testing::round_calibration()), 7);
   out = compensator.compensate(scan, JunctionEstimate{}, 1);
   EXPECT_EQ(out.beams[0].flags, ipc::kBeamTemperatureStale);
   EXPECT_TRUE(std::isnan(out.junction_c));
@@ -102,7 +102,7 @@ TEST(ScanCompensator, FlagsWhatIsMissing) {
 
 // An object steps in front of the wall: the beam's window restarts on it.
 TEST(ScanCompensator, FlagsAChangeOfScene) {
-  const auto calibration = std::make_shared<io::Calibration>(testing::round_calibration());
+  const auto calibration = std::make_shared<core::Calibration>(testing::round_calibration());
   ScanCompensator compensator(incremental());
   compensator.set_calibration(calibration, 1);
   const auto wall = testing::draw_measurements(
@@ -130,10 +130,10 @@ TEST(ScanCompensator, FlagsAChangeOfScene) {
 
 TEST(ScanCompensator, RefusesWhatItCannotUse) {
   ScanCompensator compensator;
-  io::Calibration five = testing::round_calibration();
+  core::Calibration five = testing::round_calibration();
   five.model.noise =
       testing::mixture({-4.0, -2.0, 0.0, 2.0, 4.0}, {1, 1, 1, 1, 1}, {0.2, 0.2, 0.2, 0.2, 0.2});
-  EXPECT_THROW(compensator.set_calibration(std::make_shared<io::Calibration>(five), 1),
+  EXPECT_THROW(compensator.set_calibration(std::make_shared<core::Calibration>(five), 1),
                core::InvalidInput);
   RawScan scan;
   scan.ranges_mm = {1.0, 2.0};
@@ -149,7 +149,7 @@ TEST(ScanCompensator, RefusesWhatItCannotUse) {
 // rate), and a range the outlier component takes is flagged without moving the window.
 TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
   const auto with_extension = [](core::EffectKind effect, core::Covariate covariate, double gamma) {
-    auto c = std::make_shared<io::Calibration>(testing::round_calibration());
+    auto c = std::make_shared<core::Calibration>(testing::round_calibration());
     core::ModelExtension x;
     x.effect = effect;
     x.covariate = covariate;

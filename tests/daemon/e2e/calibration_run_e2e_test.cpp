@@ -222,7 +222,7 @@ TEST(DaemonCalibrationRun, CyclesThePowerRecordsTrainsAndSwapsWithoutLosingAScan
   EXPECT_NEAR(changes[3] - changes[2], kOnS, 0.3);
 
   // The calibration written was trained on the run's recording, on the middle facing beam.
-  const io::Calibration written =
+  const core::Calibration written =
       io::read_calibration_file((dir.path() / "calibration.yaml").string());
   EXPECT_EQ(written.provenance.data_set, recording.string());
   EXPECT_NE(written.provenance.notes.find("beam 180"), std::string::npos)

@@ -11,13 +11,13 @@
 #include <map>
 #include <optional>
 
-#include "daemon/config/daemon_config_yaml.hpp"
-#include "daemon/pipeline_setup.hpp"
 #include "io/calibration_file.hpp"
 #include "io/measurement_csv.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/socket/client.hpp"
 #include "realtime/recording_replay.hpp"
+#include "settings/daemon_config_yaml.hpp"
+#include "settings/pipeline_setup.hpp"
 #include "tests/daemon/e2e/daemon_process.hpp"
 #include "tests/daemon/e2e/e2e_config.hpp"
 
@@ -29,9 +29,9 @@ using namespace std::chrono_literals;
 // The daemon's compensation path as its configuration file builds it, its calibration set: the
 // offline replay of what the daemon recorded.
 realtime::CompensationPipeline configured_pipeline(const std::filesystem::path& config) {
-  const auto settings = daemon::config::load_daemon_config(config);
-  realtime::CompensationPipeline pipeline(daemon::pipeline_settings(settings));
-  pipeline.set_calibration(daemon::read_configured_calibration(settings), 1);
+  const auto daemon_config = settings::load_daemon_config(config);
+  realtime::CompensationPipeline pipeline(settings::pipeline_settings(daemon_config));
+  pipeline.set_calibration(settings::read_configured_calibration(daemon_config), 1);
   return pipeline;
 }
 
@@ -264,7 +264,7 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
   EXPECT_EQ(status["status"]["recalibration"].get<std::string>().rfind("done", 0), 0u)
       << status.dump();
   // The file written is a whole calibration, trained on the data set.
-  const io::Calibration written =
+  const core::Calibration written =
       io::read_calibration_file((dir.path() / "calibration.yaml").string());
   EXPECT_EQ(written.provenance.data_set, data.string());
   EXPECT_EQ(daemon.terminate(), 0) << daemon.log();
@@ -278,7 +278,7 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
 TEST(DaemonEndToEnd, CompensatesWithACalibrationsExtension) {
   TemporaryDirectory dir;
   const std::string root = TOFCOMP_SOURCE_ROOT;
-  io::Calibration extended = io::read_calibration_file(root + "/config/calibration.yaml");
+  core::Calibration extended = io::read_calibration_file(root + "/config/calibration.yaml");
   core::ModelExtension extension;
   extension.effect = core::EffectKind::Outliers;
   extension.noise = core::without_extensions(extended.model.noise);

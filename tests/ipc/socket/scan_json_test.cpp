@@ -98,12 +98,12 @@ TEST(ScanJson, SpanOutsideTheScanIsAnError) {
 }
 
 TEST(FlagNames, EveryNamedBitAndUnnamedOnes) {
-  EXPECT_TRUE(flag_names(0).empty());
-  EXPECT_EQ(flag_names(kBeamNoEcho | kBeamUncalibrated | kBeamTemperatureStale |
+  EXPECT_TRUE(beam_flag_names(0).empty());
+  EXPECT_EQ(beam_flag_names(kBeamNoEcho | kBeamUncalibrated | kBeamTemperatureStale |
                        kBeamWindowRestarting | kBeamChangeDetected | kBeamOutlier),
             (std::vector<std::string>{"no_echo", "uncalibrated", "temperature_stale",
                                       "window_restarting", "change_detected", "outlier"}));
-  EXPECT_EQ(flag_names(0x8040), (std::vector<std::string>{"bit6", "bit15"}));
+  EXPECT_EQ(beam_flag_names(0x8040), (std::vector<std::string>{"bit6", "bit15"}));
 }
 
 TEST(BeamSpans, ExactlyAcceptsRangesWithinTheScan) {

@@ -11,7 +11,7 @@
 #include "core/error.hpp"
 #include "io/measurement_csv.hpp"
 #include "io/measurement_table_builder.hpp"
-#include "realtime/recording_replay.hpp"
+#include "io/recording_format.hpp"
 #include "tests/hal/lms2xx/link_harness.hpp"
 
 namespace tofcomp::sim::lms200 {
@@ -33,14 +33,14 @@ double recorded_range_mm(std::size_t k, std::size_t b) {
 }
 
 void append_scan(io::MeasurementTableBuilder& builder, std::size_t k, std::size_t beams) {
-  realtime::RawScan scan;
-  scan.time_s = kScanTimes[k];
+  std::vector<double> ranges_mm;
+  std::vector<std::uint8_t> no_echo;
   for (std::size_t b = 0; b < beams; ++b) {
-    scan.ranges_mm.push_back(recorded_range_mm(k, b));
-    scan.no_echo.push_back(recorded_no_echo(k, b) ? 1 : 0);
+    ranges_mm.push_back(recorded_range_mm(k, b));
+    no_echo.push_back(recorded_no_echo(k, b) ? 1 : 0);
   }
   std::vector<io::MeasurementRow> rows;
-  realtime::append_scan_rows(scan, rows);
+  io::append_scan_rows(kScanTimes[k], ranges_mm, no_echo, rows);
   for (const auto& row : rows) builder.append(row);
 }
 
@@ -48,7 +48,7 @@ void append_scan(io::MeasurementTableBuilder& builder, std::size_t k, std::size_
 // case readings between them, the last at 1.5 s.
 io::MeasurementTable recording(std::size_t beams = kBeams) {
   io::MeasurementTableBuilder builder;
-  for (const auto& m : realtime::recording_metadata(beams, 0.0, 0.5)) {
+  for (const auto& m : io::recording_metadata(beams, 0.0, 0.5)) {
     builder.add_metadata(m.key, m.value);
   }
   builder.append({.time_s = 0.0, .case_temp_c = 22.5, .power = true});
@@ -108,7 +108,7 @@ TEST(RecordingPlayback, CaseReadingIsTheLatestAtOrBeforeNow) {
 
 TEST(RecordingPlayback, BeforeTheFirstReadingTheFirstOneAndThePowerOn) {
   io::MeasurementTableBuilder builder;
-  for (const auto& m : realtime::recording_metadata(kBeams, 0.0, 0.5)) {
+  for (const auto& m : io::recording_metadata(kBeams, 0.0, 0.5)) {
     builder.add_metadata(m.key, m.value);
   }
   builder.append({.time_s = 2.0, .range_mm = 1500.0, .beam = 3});
@@ -152,7 +152,7 @@ TEST(RecordingPlayback, StepsFromEventToEventToTheEnd) {
 // it was played.
 TEST(RecordingPlayback, PlayedEventsKeepTheirOrderAroundTheScans) {
   io::MeasurementTableBuilder builder;
-  for (const auto& m : realtime::recording_metadata(kBeams, 0.0, 0.5)) {
+  for (const auto& m : io::recording_metadata(kBeams, 0.0, 0.5)) {
     builder.add_metadata(m.key, m.value);
   }
   builder.append({.time_s = 0.0, .case_temp_c = 22.5});

@@ -1,0 +1,58 @@
+// Measured data as the analyses need it: one beam's ranges with their reference distance, the
+// case-temperature log, the power changes and the ambient log, as plain vectors. Filled from the
+// interchange CSV (calibration/measured_data_reader.hpp) or from the twin.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/power_change.hpp"
+#include "core/thermal_identification.hpp"
+
+namespace tofcomp::calibration {
+
+struct MeasuredData {
+  std::string source;  // file name, for messages and provenance
+  int beam = 0;
+  // Ranges of the beam, in time order.
+  Eigen::VectorXd range_time_s;
+  Eigen::VectorXd range_mm;
+  Eigen::VectorXd true_range_mm;  // valid where has_true_range
+  std::vector<bool> has_true_range;
+  std::vector<long> range_line;  // the CSV line of each range, for messages (0: none)
+  // Case-temperature readings t^s.
+  Eigen::VectorXd temperature_time_s;
+  Eigen::VectorXd case_c;
+  // Power changes (time, on), in time order; the power is on before the first.
+  std::vector<core::PowerChange> power_changes;
+  // When the power, on before the first change, was switched on: the start of the experiment
+  // (time 0), or in a slice the last power-on before it.
+  double powered_since_s = 0.0;
+  // Logged ambient (time, °C); empty when the data carry none.
+  std::vector<std::pair<double, double>> ambient;
+
+  bool power_on_at(double time_s) const;
+  // The time of the last switch-on at or before time_s (powered_since_s when none).
+  double last_power_on_at(double time_s) const;
+  // Seconds since the last switch-on at each range (the warm-up covariate).
+  Eigen::VectorXd time_since_power_on() const;
+  // The last logged ambient at or before time_s (the first one before it), or fallback.
+  double ambient_at(double time_s, double fallback_c) const;
+  // Throws core::InvalidInput unless every range has a true distance, naming the first line
+  // that has none.
+  void require_true_ranges() const;
+  // The subset of ranges, temperatures, power and ambient in [begin_s, end_s).
+  MeasuredData slice(double begin_s, double end_s) const;
+};
+
+// The case log of the thermal identification (§3.2) at the temperature readings.
+core::CaseTemperatureLog case_log(const MeasuredData& data, double ambient_fallback_c);
+
+// The time that splits the data into a training part and a test part (§8): the power-on
+// closest to the given fraction of the duration, so each part holds whole heating cycles; the
+// fraction of the time itself when there is no power-on.
+double split_time(const MeasuredData& data, double fraction);
+
+}  // namespace tofcomp::calibration

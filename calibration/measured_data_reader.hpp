@@ -1,0 +1,16 @@
+// From the interchange CSV (io/measurement_csv.hpp, ../shared/docs/data-format.md) to the
+// analyses' MeasuredData.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "calibration/measured_data.hpp"
+
+namespace tofcomp::calibration {
+
+// One beam of a measured-data file. Warnings (unknown columns) are appended to `warnings`.
+MeasuredData read_measured_data(const std::string& file, int beam,
+                                std::vector<std::string>& warnings);
+
+}  // namespace tofcomp::calibration

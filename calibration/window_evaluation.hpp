@@ -1,0 +1,36 @@
+// §8.4 on measured data: the three window estimators (raw mean, mean of y − Hθ̂, EM d̂ of §6)
+// over windows of each length, and their error moments where the true distance is known.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <vector>
+
+#include "calibration/compensation.hpp"
+#include "calibration/measured_data.hpp"
+#include "core/calibration.hpp"
+#include "core/estimators.hpp"
+
+namespace tofcomp::calibration {
+
+struct WindowEvaluation {
+  Eigen::Index window = 0;
+  core::WindowEstimates estimates;
+  bool has_truth = false;
+  Eigen::VectorXd truth_mm;           // mean true distance of each window
+  core::ErrorMoments em;              // d̂
+  core::ErrorMoments raw;             // ȳ
+  core::ErrorMoments bias_corrected;  // mean of y − Hθ̂
+};
+
+// The three estimators on every window of each length (d̂ under the calibration's noise, extended
+// or not) (stride apart), and their error moments
+// where the data carry the true distance (Fig. 16-19). `progress` gets the fraction done.
+std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
+                                               const core::Calibration& calibration,
+                                               const Compensation& compensation,
+                                               const std::vector<Eigen::Index>& windows,
+                                               Eigen::Index stride,
+                                               const std::function<void(double)>& progress = {});
+
+}  // namespace tofcomp::calibration

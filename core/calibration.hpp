@@ -1,0 +1,43 @@
+// A calibration: what training (§3 and §5) learns of one scanner, and all that compensation
+// (Eq. 8 offline, §6 in the daemon) needs: the thermal network with its Kalman noise (§3.3), the
+// measurement model of Eq. 8 (basis, θ, the lasing modes' mixture), an optional extension of
+// Eq. 8 found by the residual diagnosis, and where it came from. A plain value: its file format
+// is io/calibration_file.hpp.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "core/extended_mixture.hpp"
+#include "core/kalman.hpp"
+#include "core/measurement_model.hpp"
+#include "core/model_extension.hpp"
+#include "core/thermal_model.hpp"
+
+namespace tofcomp::core {
+
+struct Provenance {
+  std::string data_set;          // the measured data trained on
+  std::string created_utc;       // ISO 8601
+  std::string software_version;  // tofcomp's version
+  long samples = 0;              // ranges used for training
+  std::string notes;
+};
+
+struct Calibration {
+  ThermalParameters thermal{};
+  ThermalNoise noise;       // of the junction-temperature Kalman filter (§3.3)
+  double ambient_c = 22.0;  // used when the data carry no ambient column
+  MeasurementModel model;
+  // What the residual diagnosis added to Eq. 8 (`tofcomp diagnose`); its noise replaces
+  // model.noise wherever ranges are compensated. Absent: the paper's model.
+  std::optional<ModelExtension> extension;
+  Provenance provenance;
+};
+
+// The noise of Eq. 8 that ranges are compensated under: the extension's when the calibration
+// has one, else the paper's mixture (without extensions). The one definition for the offline
+// pipeline (calibration/) and the daemon's path (realtime/).
+ExtendedMixture compensation_noise(const Calibration& calibration);
+
+}  // namespace tofcomp::core

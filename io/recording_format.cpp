@@ -1,0 +1,74 @@
+#include "io/recording_format.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <optional>
+
+#include "core/error.hpp"
+
+namespace tofcomp::io {
+namespace {
+
+std::string shortest(double value) {
+  char buffer[32];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, r.ptr);
+}
+
+}  // namespace
+
+RecordingGeometry read_recording_geometry(const MeasurementTable& table,
+                                          const std::string& source) {
+  std::optional<double> beams, start, resolution;
+  for (const MetadataLine& m : table.metadata) {
+    double value = 0.0;
+    const auto r = std::from_chars(m.value.data(), m.value.data() + m.value.size(), value);
+    const bool number = r.ec == std::errc() && r.ptr == m.value.data() + m.value.size();
+    std::optional<double>* target = m.key == kRecordingBeamsKey        ? &beams
+                                    : m.key == kRecordingStartAngleKey ? &start
+                                    : m.key == kRecordingResolutionKey ? &resolution
+                                                                       : nullptr;
+    if (!target) continue;
+    if (!number || !std::isfinite(value)) {
+      throw core::InvalidInput(source + ": metadata '" + m.key + ": " + m.value +
+                               "' is not a number");
+    }
+    *target = value;
+  }
+  if (!beams || !start || !resolution) {
+    throw core::InvalidInput(source + ": not a tofcompd recording: the metadata lines '# " +
+                             kRecordingBeamsKey + "', '# " + kRecordingStartAngleKey + "' and '# " +
+                             kRecordingResolutionKey + "' are required");
+  }
+  if (*beams < 1 || *beams > 65535 || *beams != std::floor(*beams)) {
+    throw core::InvalidInput(source + ": metadata '" + kRecordingBeamsKey +
+                             "' must be a whole number of beams from 1");
+  }
+  return {static_cast<std::size_t>(*beams), *start, *resolution};
+}
+
+std::vector<std::string> recording_columns() {
+  return {"time_s", "range_mm", "beam", "case_temp_c", "power"};
+}
+
+std::vector<MetadataLine> recording_metadata(std::size_t beams, double start_angle_deg,
+                                             double resolution_deg) {
+  return {{"sensor", "LMS200 (tofcompd recording)"},
+          {kRecordingBeamsKey, std::to_string(beams)},
+          {kRecordingStartAngleKey, shortest(start_angle_deg)},
+          {kRecordingResolutionKey, shortest(resolution_deg)}};
+}
+
+void append_scan_rows(double time_s, const std::vector<double>& ranges_mm,
+                      const std::vector<std::uint8_t>& no_echo, std::vector<MeasurementRow>& rows) {
+  for (std::size_t b = 0; b < ranges_mm.size(); ++b) {
+    if (no_echo[b]) continue;
+    MeasurementRow row;
+    row.time_s = time_s;
+    row.range_mm = ranges_mm[b];
+    row.beam = static_cast<int>(b);
+    rows.push_back(std::move(row));
+  }
+}
+
+}  // namespace tofcomp::io

@@ -1,0 +1,150 @@
+// Reading tofcompd.yaml: the text to a YAML document (syntax errors with line and column), the
+// document's shape (no key given twice, only text keys), then each section's reader, then
+// validate(). Every failure leaves as one DaemonConfigError starting with the source.
+#include "settings/daemon_config_yaml.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "io/yaml_fields.hpp"
+#include "settings/section_parsers.hpp"
+#include "settings/yaml_document.hpp"
+
+namespace tofcomp::settings {
+
+namespace {
+
+// No key of the schema is deeper than this, and no configuration holds this many values: the
+// shape check stops with an error beyond either, so that a deeply nested, self-referencing or
+// alias-multiplied document ("billion laughs") costs little.
+constexpr int kMaxDepth = 16;
+constexpr long kMaxValues = 100000;
+
+std::string child(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+// Rejects what io::YamlMap cannot see: a key given twice in one mapping (YAML forbids it; the
+// later one would be ignored) and keys that are not plain text.
+class ShapeCheck {
+ public:
+  explicit ShapeCheck(const std::string& source) : source_(source) {}
+
+  void check(const YAML::Node& node, const std::string& path, int depth) {
+    if (depth > kMaxDepth) {
+      throw DaemonConfigError(yaml_position(source_, node.Mark()) + ": " + path +
+                              " nests deeper than any key of the configuration");
+    }
+    if (++values_ > kMaxValues) {
+      throw DaemonConfigError(source_ + ": holds more than " + std::to_string(kMaxValues) +
+                              " values (aliases counted each time); no configuration is that "
+                              "large");
+    }
+    if (node.IsMap()) {
+      std::set<std::string> seen;
+      for (const auto& entry : node) {
+        if (!entry.first.IsScalar()) {
+          throw DaemonConfigError(yaml_position(source_, entry.first.Mark()) + ": " +
+                                  (path.empty() ? std::string("the document") : path) +
+                                  " has a key that is not plain text");
+        }
+        const std::string key = child(path, entry.first.Scalar());
+        if (!seen.insert(entry.first.Scalar()).second) {
+          throw DaemonConfigError(yaml_position(source_, entry.first.Mark()) + ": " + key +
+                                  " is given twice");
+        }
+        check(entry.second, key, depth + 1);
+      }
+    } else if (node.IsSequence()) {
+      for (std::size_t i = 0; i < node.size(); ++i) {
+        check(node[i], path + "[" + std::to_string(i) + "]", depth + 1);
+      }
+    }
+  }
+
+ private:
+  const std::string& source_;
+  long values_ = 0;
+};
+
+YAML::Node parse_document(std::string_view text, const std::string& source) {
+  const YAML::Node document = load_single_yaml_document(text, source);
+  if (document.IsNull()) return YAML::Node(YAML::NodeType::Map);
+  ShapeCheck(source).check(document, "", 0);
+  return document;
+}
+
+DaemonConfig read_sections(const YAML::Node& document, const sections::ParseContext& context) {
+  const io::YamlMap root(document, "",
+                         {"link", "emulator", "case_sensor", "power", "calibration", "compensation",
+                          "outputs", "recording", "recalibration", "log"});
+  DaemonConfig config;
+  sections::parse_link(root, context, config.link);
+  sections::parse_emulator(root, context, config.emulator);
+  sections::parse_case_sensor(root, context, config.case_sensor);
+  sections::parse_power(root, config.power);
+  sections::parse_calibration(root, context, config.calibration);
+  sections::parse_compensation(root, config.compensation);
+  sections::parse_outputs(root, context, config.outputs);
+  sections::parse_recording(root, context, config.recording);
+  sections::parse_recalibration(root, context, config.calibration, config.recalibration);
+  sections::parse_log(root, config.log);
+  // The emulator's link path is where the driver finds the emulated device.
+  if (config.emulator.enabled && config.link.device.empty()) {
+    config.link.device = config.emulator.link;
+  }
+  return config;
+}
+
+}  // namespace
+
+DaemonConfig parse_daemon_config(std::string_view text, const std::string& source_name,
+                                 const std::filesystem::path& base_directory) {
+  try {
+    const sections::ParseContext context{std::filesystem::absolute(base_directory.empty()
+                                                                       ? std::filesystem::path(".")
+                                                                       : base_directory)
+                                             .lexically_normal()};
+    const YAML::Node document = parse_document(text, source_name);
+    DaemonConfig config = read_sections(document, context);
+    config.source = source_name;
+    validate(config);
+    return config;
+  } catch (const DaemonConfigError&) {
+    throw;
+  } catch (const YAML::Exception& e) {
+    // yaml-cpp's own conversions, should a node surprise the reader.
+    throw DaemonConfigError(yaml_position(source_name, e.mark) + ": " + e.msg);
+  } catch (const core::Error& e) {
+    throw DaemonConfigError(source_name + ": " + e.what());
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw DaemonConfigError(source_name + ": " + e.what());
+  }
+}
+
+DaemonConfig load_daemon_config(const std::filesystem::path& file) {
+  const std::string source = file.string();
+  std::error_code error;
+  if (std::filesystem::is_directory(file, error)) {
+    throw DaemonConfigError(source + ": cannot be read: it is a directory");
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw DaemonConfigError(source + ": cannot be read: " + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw DaemonConfigError(source + ": cannot be read: " + std::strerror(errno));
+  std::filesystem::path base;
+  try {
+    base = std::filesystem::absolute(file).parent_path();
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw DaemonConfigError(source + ": " + e.what());
+  }
+  return parse_daemon_config(text.str(), source, base);
+}
+
+}  // namespace tofcomp::settings

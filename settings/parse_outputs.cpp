@@ -1,0 +1,100 @@
+// Readers of the `outputs` section (the Unix socket and the shared-memory ring), the
+// `recording` section (the interchange CSV of what was measured) and the `log` section.
+#include <string>
+
+#include "core/error.hpp"
+#include "settings/config_fields.hpp"
+#include "settings/section_parsers.hpp"
+
+namespace tofcomp::settings::sections {
+
+namespace {
+
+using fields::between;
+
+// sockaddr_un::sun_path holds 108 bytes on Linux, the terminating NUL included.
+constexpr std::size_t kMaxSocketPathBytes = 107;
+// NAME_MAX for the name of a POSIX shared-memory object under /dev/shm.
+constexpr std::size_t kMaxShmNameBytes = 255;
+
+void parse_socket(const io::YamlMap& map, const ParseContext& context, SocketOutputConfig& out) {
+  out.path = fields::path(map, "path", context.base_directory, out.path);
+  if (out.path.native().size() > kMaxSocketPathBytes) {
+    map.fail("path", "is " + std::to_string(out.path.native().size()) +
+                         " bytes long once resolved; a Unix socket path has at most " +
+                         std::to_string(kMaxSocketPathBytes));
+  }
+  out.mode = fields::octal_mode(map, "mode", out.mode);
+  out.max_clients =
+      static_cast<int>(fields::integer(map, "max_clients", between(1, 1024), out.max_clients));
+  out.max_request_bytes = static_cast<std::size_t>(fields::integer(
+      map, "max_request_bytes", between(64, 1 << 20), static_cast<long>(out.max_request_bytes)));
+  out.max_queued_bytes_per_client = static_cast<std::size_t>(
+      fields::integer(map, "max_queued_bytes_per_client", between(4096, 1L << 30),
+                      static_cast<long>(out.max_queued_bytes_per_client)));
+}
+
+void parse_shm(const io::YamlMap& map, ShmOutputConfig& out) {
+  if (map.has("name")) {
+    const std::string name = map.text("name");
+    if (name.size() < 2 || name.size() > kMaxShmNameBytes + 1 || name.front() != '/' ||
+        name.find('/', 1) != std::string::npos || name.find('\0') != std::string::npos) {
+      map.fail("name",
+               "must be a shared-memory name like \"/tofcompd\" (one leading /, no "
+               "other, at most " +
+                   std::to_string(kMaxShmNameBytes) + " characters after it), not \"" + name +
+                   "\"");
+    }
+    out.name = name;
+  }
+  out.slots = static_cast<int>(fields::integer(map, "slots", between(2, 1 << 20), out.slots));
+  out.mode = fields::octal_mode(map, "mode", out.mode);
+}
+
+}  // namespace
+
+void parse_outputs(const io::YamlMap& root, const ParseContext& context, OutputsConfig& out) {
+  const auto outputs = fields::section(root, "outputs", {"socket", "shm"});
+  if (!outputs) return;
+  if (const auto socket = fields::section(
+          *outputs, "socket",
+          {"path", "mode", "max_clients", "max_request_bytes", "max_queued_bytes_per_client"})) {
+    parse_socket(*socket, context, out.socket);
+  }
+  if (const auto shm = fields::section(*outputs, "shm", {"name", "slots", "mode"})) {
+    parse_shm(*shm, out.shm);
+  }
+}
+
+void parse_recording(const io::YamlMap& root, const ParseContext& context, RecordingConfig& out) {
+  const auto recording = fields::section(root, "recording", {"enabled", "directory", "rotation"});
+  if (!recording) return;
+  out.enabled = recording->boolean_or("enabled", out.enabled);
+  out.directory = fields::path(*recording, "directory", context.base_directory, out.directory);
+  if (const auto rotation = fields::section(*recording, "rotation", {"max_rows", "max_minutes"})) {
+    // Given, the section lists every limit in force: one left out is no limit.
+    out.max_rows = fields::optional_integer(*rotation, "max_rows", between(1, 1e12));
+    out.max_minutes = fields::optional_integer(*rotation, "max_minutes", between(1, 525600));
+    if (!out.max_rows && !out.max_minutes) {
+      throw io::YamlSchemaError(rotation->path() + " must give max_rows, max_minutes or both");
+    }
+  }
+}
+
+void parse_log(const io::YamlMap& root, LogConfig& out) {
+  const auto log = fields::section(root, "log", {"level", "target"});
+  if (!log) return;
+  // The names are the logging module's own, so that they cannot drift apart.
+  try {
+    if (log->has("level")) out.level = parse_log_level(log->text("level"));
+  } catch (const core::InvalidInput& e) {
+    log->fail("level", std::string("is not valid: ") + e.what());
+  }
+  try {
+    if (log->has("target")) out.target = parse_log_target(log->text("target"));
+  } catch (const core::InvalidInput& e) {
+    log->fail("target", std::string("is not valid: ") + e.what());
+  }
+}
+
+}  // namespace tofcomp::settings::sections

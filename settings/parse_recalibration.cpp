@@ -1,0 +1,83 @@
+// Reader of the `recalibration` section: where a new calibration comes from (a recorded data
+// set with a known distance, or a calibration run that cycles the scanner's power, §8.1), when
+// it is made, and where it goes.
+#include <array>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "settings/config_fields.hpp"
+#include "settings/section_parsers.hpp"
+
+namespace tofcomp::settings::sections {
+
+namespace {
+
+using fields::between;
+using fields::greater_than_up_to;
+
+// The sub-section each source reads its own settings from.
+constexpr std::array<std::pair<RecalibrationSource, std::string_view>, 2> kSourceSections = {{
+    {RecalibrationSource::Recording, "recording"},
+    {RecalibrationSource::PowerCycleRun, "power_cycle_run"},
+}};
+
+void parse_power_cycle_run(const io::YamlMap& map, const ParseContext& context,
+                           PowerCycleRunConfig& out) {
+  out.cycles = static_cast<int>(fields::integer(map, "cycles", between(1, 1000), out.cycles));
+  out.on_s = fields::number(map, "on_s", greater_than_up_to(0, 86400), out.on_s);
+  out.off_s = fields::number(map, "off_s", greater_than_up_to(0, 86400), out.off_s);
+  out.true_range_mm = fields::required_number(map, "true_range_mm", greater_than_up_to(0, 100000));
+  const io::YamlMap beams(map.node("beams"), map.child_path("beams"), {"first", "last"});
+  out.beams.first = static_cast<int>(fields::required_integer(beams, "first", between(0, 400)));
+  out.beams.last =
+      static_cast<int>(fields::integer(beams, "last", between(0, 400), out.beams.first));
+  if (out.beams.last < out.beams.first) {
+    beams.fail("last", "must be at least " + map.child_path("beams") + ".first (" +
+                           std::to_string(out.beams.first) + "), not " +
+                           std::to_string(out.beams.last));
+  }
+  out.recording = fields::required_path(map, "recording", context.base_directory);
+}
+
+}  // namespace
+
+void parse_recalibration(const io::YamlMap& root, const ParseContext& context,
+                         const CalibrationConfig& calibration, RecalibrationConfig& out) {
+  out.output = calibration.file;
+  const auto map =
+      fields::section(root, "recalibration",
+                      {"source", "trigger", "datasheet", "output", "recording", "power_cycle_run"});
+  if (!map) return;
+  out.source =
+      fields::choice<RecalibrationSource>(*map, "source",
+                                          {{"none", RecalibrationSource::None},
+                                           {"recording", RecalibrationSource::Recording},
+                                           {"power_cycle_run", RecalibrationSource::PowerCycleRun}},
+                                          out.source);
+  for (const auto& [source, key] : kSourceSections) {
+    if (source != out.source && map->has(key)) {
+      map->fail(key, "applies to source " + std::string(key) + " only; source is " +
+                         to_string(out.source));
+    }
+  }
+  out.trigger = fields::choice<RecalibrationTrigger>(
+      *map, "trigger",
+      {{"on_request", RecalibrationTrigger::OnRequest},
+       {"at_start_if_missing", RecalibrationTrigger::AtStartIfMissing}},
+      out.trigger);
+  out.datasheet = out.source == RecalibrationSource::None
+                      ? fields::path(*map, "datasheet", context.base_directory, {})
+                      : fields::required_path(*map, "datasheet", context.base_directory);
+  out.output = fields::path(*map, "output", context.base_directory, out.output);
+  if (out.source == RecalibrationSource::Recording) {
+    const io::YamlMap recording(map->node("recording"), map->child_path("recording"), {"data"});
+    out.data = fields::required_path(recording, "data", context.base_directory);
+  } else if (out.source == RecalibrationSource::PowerCycleRun) {
+    const io::YamlMap run(map->node("power_cycle_run"), map->child_path("power_cycle_run"),
+                          {"cycles", "on_s", "off_s", "true_range_mm", "beams", "recording"});
+    parse_power_cycle_run(run, context, out.power_cycle_run);
+  }
+}
+
+}  // namespace tofcomp::settings::sections

@@ -1,0 +1,142 @@
+// The daemon's compensation path (realtime/, as `tofcomp replay` runs it) with a calibration
+// that carries a model extension, on twin data with that effect: the extension trained offline
+// (calibration::evaluate_extension on the first part) makes the real-time window estimates d̂ (the
+// daemon's default incremental window of 200) closer to the true distance on the held-out
+// part than the paper's model alone: the ratio of mean absolute errors, paper's over extended,
+// exceeds a per-effect bound.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <tuple>
+
+#include "calibration/measured_data_reader.hpp"
+#include "calibration/model_extension.hpp"
+#include "calibration/training.hpp"
+#include "io/datasheet_file.hpp"
+#include "realtime/recording_replay.hpp"
+#include "sim/scenario_yaml.hpp"
+#include "sim/twin_csv.hpp"
+
+namespace tofcomp::calibration {
+namespace {
+
+const std::string kRoot = TOFCOMP_SOURCE_ROOT;
+
+// The twin's events as a tofcompd recording of one beam: power changes and case readings
+// before a range at the same time, as the daemon takes them.
+io::MeasurementTable recording_of(const MeasuredData& data) {
+  io::MeasurementTable table;
+  table.metadata = io::recording_metadata(1, 0.0, 1.0);
+  table.columns = io::recording_columns();
+  std::vector<std::tuple<double, int, io::MeasurementRow>> events;
+  for (const auto& [time_s, on] : data.power_changes) {
+    io::MeasurementRow row;
+    row.time_s = time_s;
+    row.power = on;
+    events.emplace_back(time_s, 0, row);
+  }
+  for (Eigen::Index k = 0; k < data.case_c.size(); ++k) {
+    io::MeasurementRow row;
+    row.time_s = data.temperature_time_s[k];
+    row.case_temp_c = data.case_c[k];
+    events.emplace_back(row.time_s, 1, row);
+  }
+  for (Eigen::Index k = 0; k < data.range_mm.size(); ++k) {
+    io::MeasurementRow row;
+    row.time_s = data.range_time_s[k];
+    row.range_mm = data.range_mm[k];
+    row.beam = 0;
+    events.emplace_back(row.time_s, 2, row);
+  }
+  std::stable_sort(events.begin(), events.end(), [](const auto& a, const auto& b) {
+    return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b));
+  });
+  for (auto& e : events) table.rows.push_back(std::move(std::get<2>(e)));
+  return table;
+}
+
+// Mean |d̂ − d| of the published window estimates from `from_s` on (windows still filling
+// excluded).
+double window_error(const core::Calibration& calibration, const io::MeasurementTable& recording,
+                    const MeasuredData& data, double from_s, std::string* flags_seen) {
+  realtime::CompensationPipeline pipeline;
+  pipeline.set_calibration(std::make_shared<const core::Calibration>(calibration), 1);
+  double sum = 0.0;
+  long count = 0;
+  Eigen::Index k = 0;
+  long outliers = 0;
+  realtime::replay_recording(recording, "twin", pipeline, [&](const ipc::CompensatedScan& s) {
+    const double time_s = data.range_time_s[k];
+    const double truth = data.true_range_mm[k];
+    ++k;
+    const ipc::BeamValue& v = s.beams[0];
+    if (v.flags & ipc::kBeamOutlier) ++outliers;
+    if (time_s < from_s || !std::isfinite(v.window_mm)) return;
+    sum += std::abs(v.window_mm - truth);
+    ++count;
+  });
+  EXPECT_EQ(k, data.range_mm.size());
+  if (flags_seen) *flags_seen = "outlier flags " + std::to_string(outliers);
+  EXPECT_GT(count, data.range_mm.size() / 3);
+  return sum / static_cast<double>(count);
+}
+
+struct Case {
+  const char* scenario;
+  core::EffectKind effect;
+  double min_ratio;  // MAE of the paper's model over MAE with the extension
+};
+
+class ReplayWithExtension : public ::testing::TestWithParam<Case> {};
+
+TEST_P(ReplayWithExtension, EstimatesCloserToTheTruth) {
+  const Case& c = GetParam();
+  sim::Scenario scenario =
+      sim::load_scenario_file(kRoot + "/config/scenarios/" + c.scenario + ".yaml");
+  scenario.seed = 11;
+  const std::string file = ::testing::TempDir() + "/" + c.scenario + "-replay.csv";
+  sim::write_twin_series(file, scenario, sim::simulate_series(scenario));
+  std::vector<std::string> warnings;
+  const MeasuredData data = read_measured_data(file, 0, warnings);
+  TrainSettings settings;
+  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  const double split = split_time(data, 0.5);
+  const ExtensionReport report = evaluate_extension(c.effect, data.slice(-1e300, split),
+                                                    data.slice(split, 1e300), settings, {200}, 50);
+  ASSERT_TRUE(report.calibration.extension.has_value());
+  ASSERT_EQ(report.calibration.extension->effect, c.effect);
+  core::Calibration base = report.calibration;
+  base.extension.reset();
+
+  const io::MeasurementTable recording = recording_of(data);
+  std::string flags_base, flags_extended;
+  const double before = window_error(base, recording, data, split, &flags_base);
+  const double after = window_error(report.calibration, recording, data, split, &flags_extended);
+  std::printf(
+      "%s: window MAE %.4f mm with the paper's model, %.4f mm with the extension "
+      "(ratio %.2f; %s)\n",
+      c.scenario, before, after, before / after, flags_extended.c_str());
+  EXPECT_GT(before / after, c.min_ratio) << c.scenario;
+}
+
+// The ratios measured (seed 11): outliers 12.0, time drift 42.1, heating hysteresis 1.64, mode
+// persistence 1.20, temperature-dependent weights 1.07, temperature-dependent spread 1.02, one
+// more mode 1.00. The last two change d̂ little (the spread re-weights ranges of one window
+// whose junction barely moves; the third mode is rare): they are held to "not worse".
+INSTANTIATE_TEST_SUITE_P(
+    Effects, ReplayWithExtension,
+    ::testing::Values(
+        Case{"effect-outliers", core::EffectKind::Outliers, 5.0},
+        Case{"effect-time-drift", core::EffectKind::TimeDrift, 10.0},
+        Case{"effect-heating-hysteresis", core::EffectKind::HeatingHysteresis, 1.3},
+        Case{"effect-warm-up", core::EffectKind::WarmUp, 1.8},
+        Case{"effect-mode-persistence", core::EffectKind::ModePersistence, 1.1},
+        Case{"effect-temperature-weights", core::EffectKind::TemperatureDependentWeights, 1.02},
+        Case{"effect-temperature-spread", core::EffectKind::TemperatureDependentSpread, 0.98},
+        Case{"effect-extra-mode", core::EffectKind::ExtraMode, 0.98}));
+
+}  // namespace
+}  // namespace tofcomp::calibration

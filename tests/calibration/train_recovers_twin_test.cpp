@@ -1,0 +1,63 @@
+// `tofcomp train` on twin data recovers the twin's parameters: the thermal network's fitted
+// parameters, each mode's bias curve H(t)θ + μ_i against the twin's bias(t) + offset_i, the
+// spreads (with the 1 mm quantization's variance 1/12 mm² added) and the weights.
+// Tolerance of the curves: the bias falls by up to 2.7 mm/°C on this range, so the smoothed
+// junction temperature's error (≈ 0.1 °C from 0.0625 °C readings) alone moves them by ≈ 0.3 mm.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "calibration/measured_data_reader.hpp"
+#include "calibration/training.hpp"
+#include "io/datasheet_file.hpp"
+#include "sim/scenario_yaml.hpp"
+#include "sim/twin_csv.hpp"
+
+namespace tofcomp::calibration {
+namespace {
+
+const std::string kRoot = TOFCOMP_SOURCE_ROOT;
+
+class TrainRecoversTwin : public ::testing::TestWithParam<unsigned> {};
+
+TEST_P(TrainRecoversTwin, WithinTolerances) {
+  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+  scenario.seed = GetParam();
+  const std::string file = ::testing::TempDir() + "/twin_" + std::to_string(GetParam()) + ".csv";
+  sim::write_twin_series(file, scenario, sim::simulate_series(scenario));
+  std::vector<std::string> warnings;
+  const MeasuredData data = read_measured_data(file, 0, warnings);
+  EXPECT_TRUE(warnings.empty());
+
+  TrainSettings settings;
+  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  const Training t = train_calibration(data, settings);
+
+  const auto& truth = scenario.thermal;
+  const auto& fitted = t.calibration.thermal;
+  EXPECT_NEAR(fitted.r2_k_per_w / truth.r2_k_per_w, 1.0, 0.02);
+  EXPECT_NEAR(fitted.c2_j_per_k / truth.c2_j_per_k, 1.0, 0.05);
+  EXPECT_NEAR(fitted.c1_j_per_k / truth.c1_j_per_k, 1.0, 0.35);
+
+  const auto& model = t.calibration.model;
+  ASSERT_EQ(model.noise.modes(), 2);
+  for (double temp = 25.2; temp <= 28.4; temp += 0.4) {
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_NEAR(model.bias_at(temp) + model.noise.mean[i],
+                  scenario.bias.at(temp) + scenario.modes[static_cast<std::size_t>(i)].offset_mm,
+                  0.4)
+          << "mode " << i << " at " << temp << " °C";
+    }
+  }
+  for (int i = 0; i < 2; ++i) {
+    const auto& mode = scenario.modes[static_cast<std::size_t>(i)];
+    EXPECT_NEAR(std::sqrt(model.noise.variance[i]), std::sqrt(mode.std_mm * mode.std_mm + 1.0 / 12),
+                0.06);
+    EXPECT_NEAR(model.noise.weight[i], mode.weight, 0.03);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, TrainRecoversTwin, ::testing::Values(1u, 2u, 3u));
+
+}  // namespace
+}  // namespace tofcomp::calibration
