@@ -31,6 +31,22 @@ bool MeasuredData::power_on_at(double time_s) const {
   return on;
 }
 
+double MeasuredData::power_on_fraction(double begin_s, double end_s) const {
+  if (!(end_s > begin_s)) return power_on_at(begin_s) ? 1.0 : 0.0;
+  bool on = power_on_at(begin_s);
+  double since = begin_s;
+  double on_s = 0.0;
+  for (const core::PowerChange& change : power_changes) {
+    if (change.time_s <= begin_s) continue;
+    if (change.time_s >= end_s) break;
+    if (on) on_s += change.time_s - since;
+    on = change.on;
+    since = change.time_s;
+  }
+  if (on) on_s += end_s - since;
+  return on_s / (end_s - begin_s);
+}
+
 double MeasuredData::last_power_on_at(double time_s) const {
   bool on = true;
   double since = powered_since_s;
@@ -125,7 +141,12 @@ core::CaseTemperatureLog case_log(const MeasuredData& data, double ambient_fallb
   log.power_on_fraction.resize(k);
   log.ambient_c.resize(k);
   for (Eigen::Index i = 0; i < k; ++i) {
-    log.power_on_fraction[i] = data.power_on_at(log.times_s[i]) ? 1.0 : 0.0;
+    // Eq. 3's input is held over each interval (zero-order hold): the share of the interval to
+    // the next reading the power was on, so that a switch between readings heats the model by
+    // the energy it put in, not a whole interval early or late.
+    log.power_on_fraction[i] =
+        i + 1 < k ? data.power_on_fraction(log.times_s[i], log.times_s[i + 1])
+                  : (data.power_on_at(log.times_s[i]) ? 1.0 : 0.0);
     log.ambient_c[i] = data.ambient_at(log.times_s[i], ambient_fallback_c);
   }
   return log;

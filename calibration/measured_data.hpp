@@ -34,6 +34,8 @@ struct MeasuredData {
   std::vector<std::pair<double, double>> ambient;
 
   bool power_on_at(double time_s) const;
+  // The share of [begin_s, end_s) the power was on (power_on_at(begin_s) for an empty interval).
+  double power_on_fraction(double begin_s, double end_s) const;
   // The time of the last switch-on at or before time_s (powered_since_s when none).
   double last_power_on_at(double time_s) const;
   // Seconds since the last switch-on at each range (the warm-up covariate).

@@ -11,7 +11,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   data.require_true_ranges();
   Training t;
   t.thermal = fit_thermal(data, held_out, settings.thermal);
-  const core::ThermalParameters& thermal = t.thermal.pem.parameters;
+  const core::ThermalParameters& thermal = t.thermal.identified;
   t.junction =
       junction_at_ranges(data, thermal, settings.noise, settings.thermal.ambient_fallback_c);
 
@@ -26,6 +26,8 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   c.model.basis = basis;
   c.model.theta = t.em.theta;
   c.model.noise = t.em.mixture;
+  c.model.trained_junction_c =
+      core::TemperatureRange{t.junction.junction_c.minCoeff(), t.junction.junction_c.maxCoeff()};
   c.provenance.data_set = data.source;
   c.provenance.created_utc = io::utc_now();
   c.provenance.software_version = std::string("tofcomp ") + io::kVersion;

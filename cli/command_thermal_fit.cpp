@@ -1,5 +1,6 @@
-// tofcomp thermal-fit DATA --datasheet D.yaml: Algorithm 1, the prediction-error fit on the
-// training cycles and the fit of Eq. 26 (and NRMSE) on the held-out cycles (§3.2, §8.1).
+// tofcomp thermal-fit DATA [--datasheet D.yaml]: Algorithm 1, the fit with the datasheet as a
+// prior (or the paper's prediction-error fit with --free) on the training cycles, and the fit of
+// Eq. 26 (and NRMSE) on the held-out cycles (§3.2, §8.1).
 #include "cli/command.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
@@ -8,10 +9,11 @@
 namespace tofcomp::cli {
 
 void register_thermal_fit(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
-  auto* cmd = app.add_subcommand(
-      "thermal-fit",
-      "Identify the thermal model (Algorithm 1, then the prediction-error method) on the first "
-      "cycles and report its fit (Eq. 26 and NRMSE) on the held-out cycles");
+  auto* cmd =
+      app.add_subcommand("thermal-fit",
+                         "Identify the thermal model (Algorithm 1, then a fit with the datasheet "
+                         "as a prior) on the first "
+                         "cycles and report its fit (Eq. 26 and NRMSE) on the held-out cycles");
   auto data = add_data_options(*cmd);
   auto thermal = add_thermal_options(*cmd);
   auto fraction = std::make_shared<double>(0.5);

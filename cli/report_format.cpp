@@ -15,6 +15,9 @@ nlohmann::json to_json(const core::ErrorMoments& m) {
 
 namespace {
 
+// A direction's components smaller than this are left out of its description.
+constexpr double kDirectionComponentShown = 0.05;
+
 nlohmann::json thermal_json(const core::ThermalParameters& p) {
   return {{"r1_k_per_w", p.r1_k_per_w},
           {"r2_k_per_w", p.r2_k_per_w},
@@ -28,16 +31,71 @@ std::string thermal_line(const core::ThermalParameters& p) {
                      p.r1_k_per_w, p.r2_k_per_w, p.c1_j_per_k, p.c2_j_per_k, p.power_w);
 }
 
+// Per parameter: the estimate's relative standard deviation and whether the data or the datasheet
+// set it; then the directions the data see less than the prior.
+std::string map_fit_detail_text(const core::MapFitResult& m) {
+  std::string out;
+  const auto values = core::thermal_parameter_values(m.parameters);
+  for (const core::ThermalParameter p : core::kThermalParameters) {
+    const auto i = static_cast<std::size_t>(p);
+    out += fmt::format(
+        "    {:<2} {:10.4g} ± {:5.1f} %  {} (the data removed {:.0f} % of the prior's "
+        "variance)\n",
+        core::thermal_parameter_name(p), values[i], 100.0 * m.relative_std[i],
+        m.held[i] ? "held at the datasheet" : "from the data        ", 100.0 * m.data_share[i]);
+  }
+  for (const core::PriorHeldDirection& d : m.prior_held_directions) {
+    std::string direction;
+    for (const core::ThermalParameter p : core::kThermalParameters) {
+      const double c = d.log_direction[static_cast<std::size_t>(p)];
+      if (std::abs(c) < kDirectionComponentShown) continue;
+      direction += fmt::format("{}{:.2f} log {}",
+                               direction.empty() ? (c < 0 ? "-" : "") : (c < 0 ? " - " : " + "),
+                               std::abs(c), core::thermal_parameter_name(p));
+    }
+    out += fmt::format("    held by the datasheet along {} (data/prior information {:.2g})\n",
+                       direction, d.data_over_prior);
+  }
+  out += fmt::format("    residuals: lag-1 correlation {:.3f}, {:.0f} independent readings\n",
+                     m.residual_lag1_correlation, m.effective_samples);
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json to_json(const calibration::ThermalFit& fit) {
   nlohmann::json j = {{"algorithm1", thermal_json(fit.algorithm1)},
-                      {"identified", thermal_json(fit.pem.parameters)},
-                      {"pem_iterations", fit.pem.iterations},
-                      {"pem_converged", fit.pem.converged},
-                      {"training_rms_residual_c", fit.pem.rms_residual_c},
-                      {"training_paper_fit_percent", fit.pem.paper_fit_percent},
-                      {"training_nrmse_fit_percent", fit.pem.nrmse_fit_percent}};
+                      {"method", fit.map ? "datasheet_prior" : "prediction_error"},
+                      {"identified", thermal_json(fit.identified)},
+                      {"iterations", fit.iterations},
+                      {"converged", fit.converged},
+                      {"training_rms_residual_c", fit.training_rms_residual_c},
+                      {"training_paper_fit_percent", fit.training_paper_fit_percent},
+                      {"training_nrmse_fit_percent", fit.training_nrmse_fit_percent}};
+  if (fit.map) {
+    const core::MapFitResult& m = *fit.map;
+    nlohmann::json parameters = nlohmann::json::array();
+    const auto values = core::thermal_parameter_values(m.parameters);
+    const auto prior = core::thermal_parameter_values(m.prior);
+    for (const core::ThermalParameter p : core::kThermalParameters) {
+      const auto i = static_cast<std::size_t>(p);
+      parameters.push_back({{"name", core::thermal_parameter_name(p)},
+                            {"value", values[i]},
+                            {"datasheet", prior[i]},
+                            {"relative_std", m.relative_std[i]},
+                            {"data_share", m.data_share[i]},
+                            {"held_at_datasheet", m.held[i]}});
+    }
+    nlohmann::json directions = nlohmann::json::array();
+    for (const core::PriorHeldDirection& d : m.prior_held_directions) {
+      directions.push_back(
+          {{"log_direction", d.log_direction}, {"data_over_prior", d.data_over_prior}});
+    }
+    j["parameters"] = parameters;
+    j["prior_held_directions"] = directions;
+    j["effective_samples"] = m.effective_samples;
+    j["residual_lag1_correlation"] = m.residual_lag1_correlation;
+  }
   if (fit.has_held_out) {
     j["held_out_paper_fit_percent"] = fit.held_out_paper_fit_percent;
     j["held_out_nrmse_fit_percent"] = fit.held_out_nrmse_fit_percent;
@@ -84,12 +142,17 @@ std::string thermal_fit_text(const calibration::ThermalFit& fit) {
   std::string out;
   out += "thermal model (§3)\n";
   out += "  Algorithm 1 (datasheet): " + thermal_line(fit.algorithm1) + "\n";
-  out += "  prediction-error fit:    " + thermal_line(fit.pem.parameters) + "\n";
+  if (fit.map) {
+    out += "  fit, datasheet as prior: " + thermal_line(fit.identified) + "\n";
+    out += map_fit_detail_text(*fit.map);
+  } else {
+    out += "  prediction-error fit:    " + thermal_line(fit.identified) + "\n";
+  }
   out += fmt::format(
       "  training fit: RMS {:.4f} °C, Eq. 26 {:.5f} %, NRMSE fit {:.2f} % ({} "
       "iterations{})\n",
-      fit.pem.rms_residual_c, fit.pem.paper_fit_percent, fit.pem.nrmse_fit_percent,
-      fit.pem.iterations, fit.pem.converged ? "" : ", not converged");
+      fit.training_rms_residual_c, fit.training_paper_fit_percent, fit.training_nrmse_fit_percent,
+      fit.iterations, fit.converged ? "" : ", not converged");
   if (fit.has_held_out) {
     out += fmt::format("  held-out fit: Eq. 26 {:.5f} % (paper: 92.79 %), NRMSE fit {:.2f} %\n",
                        fit.held_out_paper_fit_percent, fit.held_out_nrmse_fit_percent);

@@ -1,9 +1,11 @@
 #include "cli/shared_options.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "calibration/measured_data_reader.hpp"
+#include "cli/bundled_datasheet.hpp"
 #include "core/error.hpp"
 #include "io/datasheet_file.hpp"
 
@@ -27,8 +29,15 @@ std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd) {
 
 calibration::ThermalFitSettings ThermalOptions::settings() const {
   calibration::ThermalFitSettings s;
-  s.datasheet = io::read_datasheet_file(datasheet);
+  s.datasheet =
+      datasheet.empty()
+          ? io::parse_datasheet(std::string(bundled_lms200_datasheet_text()), kBundledDatasheetName)
+          : io::read_datasheet_file(datasheet);
   s.ambient_fallback_c = ambient_c;
+  s.method = free_option != nullptr && free_option->count() > 0
+                 ? calibration::ThermalFitMethod::PredictionError
+                 : calibration::ThermalFitMethod::DatasheetPrior;
+  s.prior.prior_log_std = std::log(prior_factor);
   s.free = core::ThermalParameterMask{false, false, false, false, false};
   std::istringstream in(free);
   std::string name;
@@ -65,12 +74,20 @@ std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd) {
   auto o = std::make_shared<ThermalOptions>();
   cmd.add_option("--datasheet", o->datasheet,
                  "Algorithm 1 inputs (YAML, e.g. config/lms200-datasheet.yaml): the start of "
-                 "the thermal fit")
-      ->required()
+                 "the thermal fit and its prior; default: the bundled LMS 200 values")
       ->check(CLI::ExistingFile);
-  cmd.add_option("--free", o->free,
-                 "Thermal parameters the prediction-error method fits, of r1,r2,c1,c2,p")
-      ->capture_default_str();
+  cmd.add_option("--prior-factor", o->prior_factor,
+                 "The datasheet prior's spread: each thermal parameter within this factor of "
+                 "Algorithm 1's value at one standard deviation")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0001, 1e6));
+  o->free_option =
+      cmd.add_option("--free", o->free,
+                     "Fit only these thermal parameters, of r1,r2,c1,c2,p, by the paper's "
+                     "prediction-error method (the others fixed at Algorithm 1's values; it "
+                     "refuses a log that does not determine them). Without it every parameter is "
+                     "fitted with the datasheet as a prior")
+          ->capture_default_str();
   cmd.add_option("--ambient", o->ambient_c, "Ambient °C when the data carry no ambient_c")
       ->capture_default_str();
   cmd.add_option("--kalman-noise", o->kalman_noise,

@@ -20,8 +20,10 @@ struct DataOptions {
 std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd);
 
 struct ThermalOptions {
-  std::string datasheet;
+  std::string datasheet;  // empty: the bundled LMS 200 datasheet
   std::string free = "r2,c1,c2";
+  const CLI::Option* free_option = nullptr;  // given: the paper's prediction-error method
+  double prior_factor = 2.0;                 // one σ of the datasheet prior, as a factor
   double ambient_c = 22.0;
   std::vector<double> kalman_noise;  // q_case, q_junction, r; empty: core::ThermalNoise's
   calibration::ThermalFitSettings settings() const;

@@ -17,19 +17,11 @@ namespace tofcomp::core {
 
 namespace {
 
-constexpr std::array<ThermalParameter, kThermalParameterCount> kAllParameters = {
-    ThermalParameter::kR1, ThermalParameter::kR2, ThermalParameter::kC1, ThermalParameter::kC2,
-    ThermalParameter::kPower};
-
 constexpr std::array<const char*, kThermalParameterCount> kParameterNames = {"R1", "R2", "C1", "C2",
                                                                              "P"};
 
 int index_of(ThermalParameter parameter) {
   return static_cast<int>(parameter);
-}
-
-std::array<double, kThermalParameterCount> as_array(const ThermalParameters& p) {
-  return {p.r1_k_per_w, p.r2_k_per_w, p.c1_j_per_k, p.c2_j_per_k, p.power_w};
 }
 
 double& value_of(ThermalParameters& p, ThermalParameter parameter) {
@@ -50,7 +42,7 @@ double& value_of(ThermalParameters& p, ThermalParameter parameter) {
 
 std::vector<ThermalParameter> free_parameters(const ThermalParameterMask& mask) {
   std::vector<ThermalParameter> out;
-  for (const ThermalParameter p : kAllParameters) {
+  for (const ThermalParameter p : kThermalParameters) {
     if (mask.is_free(p)) out.push_back(p);
   }
   return out;
@@ -158,7 +150,7 @@ Eigen::JacobiSVD<Eigen::MatrixXd> require_identifiable(const Eigen::MatrixXd& ja
 // Σ (ŷ_k − y_k)², or +∞ for parameters outside the model's domain or a non-finite prediction,
 // so that a wild trial step is rejected rather than raised.
 double output_error_cost(const CaseTemperatureLog& log, const ThermalParameters& parameters) {
-  for (const double value : as_array(parameters)) {
+  for (const double value : thermal_parameter_values(parameters)) {
     if (!(value > 0.0) || !std::isfinite(value)) return std::numeric_limits<double>::infinity();
   }
   const double cost = (predict_case_temperature(log, parameters) - log.case_c).squaredNorm();
@@ -183,6 +175,18 @@ void require_comparable(const Eigen::Ref<const Eigen::VectorXd>& predicted,
 }
 
 }  // namespace
+
+const char* thermal_parameter_name(ThermalParameter parameter) {
+  return kParameterNames[static_cast<std::size_t>(index_of(parameter))];
+}
+
+std::array<double, kThermalParameterCount> thermal_parameter_values(const ThermalParameters& p) {
+  return {p.r1_k_per_w, p.r2_k_per_w, p.c1_j_per_k, p.c2_j_per_k, p.power_w};
+}
+
+ThermalParameters thermal_parameters_from(const std::array<double, kThermalParameterCount>& v) {
+  return {v[0], v[1], v[2], v[3], v[4]};
+}
 
 // Algorithm 1, steps 1-4.
 ThermalParameters identify_from_datasheet(const DatasheetThermalData& data) {
@@ -335,8 +339,8 @@ PemResult identify_by_prediction_error(const CaseTemperatureLog& log,
 
   Eigen::VectorXd theta(n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    theta[i] = std::log(
-        as_array(initial)[static_cast<std::size_t>(index_of(names[static_cast<std::size_t>(i)]))]);
+    theta[i] = std::log(thermal_parameter_values(
+        initial)[static_cast<std::size_t>(index_of(names[static_cast<std::size_t>(i)]))]);
   }
   ThermalParameters current = initial;
   CaseSensitivity sensitivity = case_temperature_sensitivity(log, current, options.free);

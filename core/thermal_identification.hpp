@@ -82,6 +82,15 @@ ThermalParameters identify_from_datasheet(const DatasheetThermalData& data);
 // The parameters, in the order of Jacobian columns and of PemResult::relative_std.
 enum class ThermalParameter { kR1 = 0, kR2 = 1, kC1 = 2, kC2 = 3, kPower = 4 };
 inline constexpr int kThermalParameterCount = 5;
+inline constexpr std::array<ThermalParameter, kThermalParameterCount> kThermalParameters = {
+    ThermalParameter::kR1, ThermalParameter::kR2, ThermalParameter::kC1, ThermalParameter::kC2,
+    ThermalParameter::kPower};
+
+// "R1", "R2", "C1", "C2", "P".
+const char* thermal_parameter_name(ThermalParameter parameter);
+// The five values in ThermalParameter order, and back.
+std::array<double, kThermalParameterCount> thermal_parameter_values(const ThermalParameters& p);
+ThermalParameters thermal_parameters_from(const std::array<double, kThermalParameterCount>& v);
 
 // Which parameters the prediction-error method fits; the others keep their initial values.
 // The default is identifiable from a case log with a constant ambient (see above).

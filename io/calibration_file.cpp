@@ -268,6 +268,12 @@ std::string calibration_to_yaml(const core::Calibration& c) {
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
+  if (c.model.trained_junction_c) {
+    out << YAML::Key << "trained_junction_c" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "min" << YAML::Value << c.model.trained_junction_c->min_c;
+    out << YAML::Key << "max" << YAML::Value << c.model.trained_junction_c->max_c;
+    out << YAML::EndMap;
+  }
   out << YAML::EndMap;
   if (c.extension) emit_extension(out, *c.extension, c.model.noise);
   out << YAML::EndMap;
@@ -321,7 +327,13 @@ core::Calibration read_calibration_file(const std::string& file) {
       throw YamlSchemaError(std::string("thermal: ") + e.what());
     }
 
-    const YamlMap m(top.node("measurement"), "measurement", {"basis", "theta_mm", "modes"});
+    const YamlMap m(top.node("measurement"), "measurement",
+                    {"basis", "theta_mm", "modes", "trained_junction_c"});
+    if (m.has("trained_junction_c")) {
+      const YamlMap range(m.node("trained_junction_c"), "measurement.trained_junction_c",
+                          {"min", "max"});
+      c.model.trained_junction_c = core::TemperatureRange{range.number("min"), range.number("max")};
+    }
     c.model.basis = read_basis(m);
     c.model.theta = read_vector(m, "theta_mm");
     const YAML::Node modes = m.node("modes");

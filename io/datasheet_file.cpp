@@ -4,9 +4,12 @@
 
 namespace tofcomp::io {
 
-core::DatasheetThermalData read_datasheet_file(const std::string& file) {
+namespace {
+
+core::DatasheetThermalData datasheet_from_yaml(const YAML::Node& document,
+                                               const std::string& file) {
   try {
-    const YamlMap top(load_yaml_file(file), "", {"laser", "case", "equilibrium"});
+    const YamlMap top(document, "", {"laser", "case", "equilibrium"});
     core::DatasheetThermalData d;
     const YamlMap laser(top.node("laser"), "laser",
                         {"r1_k_per_w", "c1_j_per_k", "diode_volume_m3", "diode_density_kg_per_m3",
@@ -35,6 +38,16 @@ core::DatasheetThermalData read_datasheet_file(const std::string& file) {
     if (what.rfind(file, 0) == 0) throw;
     throw YamlSchemaError(file + ": " + what);
   }
+}
+
+}  // namespace
+
+core::DatasheetThermalData read_datasheet_file(const std::string& file) {
+  return datasheet_from_yaml(load_yaml_file(file), file);
+}
+
+core::DatasheetThermalData parse_datasheet(const std::string& text, const std::string& source) {
+  return datasheet_from_yaml(load_yaml_text(text, source), source);
 }
 
 }  // namespace tofcomp::io

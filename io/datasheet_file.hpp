@@ -10,5 +10,7 @@ namespace tofcomp::io {
 
 // Throws YamlSchemaError naming the file and key on a missing, unknown or non-numeric key.
 core::DatasheetThermalData read_datasheet_file(const std::string& file);
+// The same for the file's text in memory; `source` names it in errors.
+core::DatasheetThermalData parse_datasheet(const std::string& text, const std::string& source);
 
 }  // namespace tofcomp::io

@@ -7,7 +7,8 @@ namespace tofcomp::io {
 
 YamlMap::YamlMap(const YAML::Node& node, std::string path,
                  std::initializer_list<std::string_view> allowed)
-    : YamlMap(node, std::move(path), std::span<const std::string_view>(allowed.begin(), allowed.size())) {}
+    : YamlMap(node, std::move(path),
+              std::span<const std::string_view>(allowed.begin(), allowed.size())) {}
 
 YamlMap::YamlMap(const YAML::Node& node, std::string path,
                  std::span<const std::string_view> allowed)
@@ -93,16 +94,32 @@ std::string YamlMap::text_or(std::string_view key, std::string fallback) const {
   return has(key) ? text(key) : fallback;
 }
 
+namespace {
+
+[[noreturn]] void syntax_error(const std::string& source, const YAML::ParserException& e) {
+  std::ostringstream msg;
+  msg << source << ":" << e.mark.line + 1 << ":" << e.mark.column + 1
+      << ": YAML syntax error: " << e.msg;
+  throw YamlSchemaError(msg.str());
+}
+
+}  // namespace
+
 YAML::Node load_yaml_file(const std::string& file) {
   try {
     return YAML::LoadFile(file);
   } catch (const YAML::BadFile&) {
     throw YamlSchemaError(file + ": cannot be opened");
   } catch (const YAML::ParserException& e) {
-    std::ostringstream msg;
-    msg << file << ":" << e.mark.line + 1 << ":" << e.mark.column + 1
-        << ": YAML syntax error: " << e.msg;
-    throw YamlSchemaError(msg.str());
+    syntax_error(file, e);
+  }
+}
+
+YAML::Node load_yaml_text(const std::string& text, const std::string& source) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    syntax_error(source, e);
   }
 }
 

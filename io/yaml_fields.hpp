@@ -55,5 +55,7 @@ class YamlMap {
 // Loads a YAML file; a missing file or a syntax error is a YamlSchemaError naming the file and
 // the line.
 YAML::Node load_yaml_file(const std::string& file);
+// The same for text in memory; `source` names it in errors.
+YAML::Node load_yaml_text(const std::string& text, const std::string& source);
 
 }  // namespace tofcomp::io

@@ -25,12 +25,15 @@ enum BeamFlag : std::uint16_t {
   kBeamWindowRestarting = 1u << 3,  // the window has fewer than its minimum samples
   kBeamChangeDetected = 1u << 4,    // this range restarted the window (the distance moved)
   kBeamOutlier = 1u << 5,  // the calibration's outlier component takes this range (P > 0.5)
+  // t̂^j lies outside the junction temperatures the calibration was trained on: the bias is held
+  // at its value at the nearer end of that range (core/measurement_model.hpp), not extrapolated
+  kBeamTemperatureExtrapolated = 1u << 6,
 };
 
 // The flags' names, by bit (the socket's flag_names, shm-dump's and replay's flags column).
-inline constexpr std::array<std::string_view, 6> kBeamFlagNames{
-    "no_echo",           "uncalibrated",    "temperature_stale",
-    "window_restarting", "change_detected", "outlier"};
+inline constexpr std::array<std::string_view, 7> kBeamFlagNames{
+    "no_echo",         "uncalibrated", "temperature_stale",       "window_restarting",
+    "change_detected", "outlier",      "temperature_extrapolated"};
 
 // The names of the set bits, lowest bit first; "bitN" for a bit without a name.
 inline std::vector<std::string> beam_flag_names(std::uint16_t flags) {

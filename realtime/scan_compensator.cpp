@@ -101,6 +101,9 @@ ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
   std::uint16_t scan_flags = 0;
   if (!calibrated) scan_flags |= ipc::kBeamUncalibrated;
   if (!junction.valid || junction.stale) scan_flags |= ipc::kBeamTemperatureStale;
+  if (compensating && calibration_->model.extrapolates(junction.junction_c)) {
+    scan_flags |= ipc::kBeamTemperatureExtrapolated;
+  }
   if (compensating && windows_.size() != beams) rebuild_windows(beams);
   // Eq. 8: the bias H(t̂^j)θ̂ (and an extension's γ·c) is one value for the whole scan, and so
   // is the junction's temperature bin.

@@ -103,7 +103,9 @@ TEST(FlagNames, EveryNamedBitAndUnnamedOnes) {
                        kBeamWindowRestarting | kBeamChangeDetected | kBeamOutlier),
             (std::vector<std::string>{"no_echo", "uncalibrated", "temperature_stale",
                                       "window_restarting", "change_detected", "outlier"}));
-  EXPECT_EQ(beam_flag_names(0x8040), (std::vector<std::string>{"bit6", "bit15"}));
+  EXPECT_EQ(beam_flag_names(0x8040),
+            (std::vector<std::string>{"temperature_extrapolated", "bit15"}));
+  EXPECT_EQ(beam_flag_names(0x8080), (std::vector<std::string>{"bit7", "bit15"}));
 }
 
 TEST(BeamSpans, ExactlyAcceptsRangesWithinTheScan) {
