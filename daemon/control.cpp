@@ -94,11 +94,11 @@ nlohmann::json Control::stats() {
     const auto& r = recorder->counters();
     s["recording"] = {{"rows", r.rows}, {"files", r.files}, {"scans", r.scans}};
   }
-  if (const auto e = modules_.link.emulator_counters()) {
+  if (const auto e = modules_.link.device_counters()) {
     s["emulator"] = {{"scans_sent", e->scans_sent},
                      {"scans_skipped", e->scans_skipped},
                      {"telegrams_sent", e->telegrams_sent},
-                     {"faults_injected", e->injected.total()}};
+                     {"faults_injected", e->faults_injected}};
   }
   return s;
 }

@@ -45,7 +45,7 @@ Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file)
 Daemon::~Daemon() {
   recalibration_.stop();
   sensor_.stop();
-  link_.stop_emulator();
+  link_.stop_device();
 }
 
 int Daemon::run() {
@@ -71,7 +71,7 @@ int Daemon::run() {
   link_.stop();
   sensor_.stop();
   outputs_.stop();
-  link_.stop_emulator();
+  link_.stop_device();
   spdlog::info("stopped after {} scans", outputs_.scans_published());
   return 0;
 }

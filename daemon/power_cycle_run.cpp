@@ -32,7 +32,7 @@ hal::PowerSwitch& PowerCycleRun::power_switch() {
       power_switch_ =
           std::make_unique<hal::PowerSwitch>(hal::make_power_switch(*power_switch_config_, true));
     } else {
-      power_switch_ = parts_.link.emulated_supply_switch();
+      power_switch_ = parts_.link.supply_switch();
       if (!power_switch_) {
         throw core::InvalidInput(
             "recalibration.source power_cycle_run needs power.switch: there is no scanner "

@@ -5,37 +5,45 @@
 #include <utility>
 
 #include "core/error.hpp"
-#include "daemon/emulator_power_line.hpp"
 #include "daemon/scan_conversion.hpp"
 #include "settings/daemon_config_adapters.hpp"
+#include "sim/lms200/emulated_scanner_device.hpp"
+#include "sim/lms200/played_recording_device.hpp"
 
 namespace tofcomp::daemon {
+
+namespace {
+
+// The configured device: the serial port, or the emulated LMS 200 (playing the recording when
+// one is set; reporting its supply as the power unless a power sense is configured).
+std::unique_ptr<hal::lms2xx::ScannerDevice> make_device(
+    const settings::DaemonConfig& config, hal::lms2xx::ScannerDevice::Reports reports) {
+  if (!config.emulator.enabled) {
+    return std::make_unique<hal::lms2xx::SerialScannerDevice>(config.link.device.string());
+  }
+  auto emulator = std::make_unique<sim::lms200::Emulator>(settings::emulator_settings(config));
+  const std::string scenario = config.emulator.scenario.string();
+  if (!config.emulator.recording.empty()) {
+    return std::make_unique<sim::lms200::PlayedRecordingDevice>(
+        std::move(emulator), scenario, std::move(reports), config.link.scan_timeout);
+  }
+  return std::make_unique<sim::lms200::EmulatedScannerDevice>(
+      std::move(emulator), scenario, std::move(reports), !config.power.sense.has_value());
+}
+
+}  // namespace
 
 ScannerLink::ScannerLink(boost::asio::io_context& io, const settings::DaemonConfig& config,
                          const EventClock& clock, Handlers handlers)
     : link_config_(config.link),
-      emulator_config_(config.emulator),
-      power_sensed_(config.power.sense.has_value()),
+      recording_(config.emulator.recording),
       clock_(clock),
-      handlers_(std::move(handlers)) {
-  std::string device;
-  if (emulator_config_.enabled) {
-    emulator_ = std::make_unique<sim::lms200::Emulator>(settings::emulator_settings(config));
-    if (!emulator_config_.recording.empty()) {
-      // The recorded case readings and power changes, at their recorded times, in place of the
-      // sensor poll and the emulator's power state.
-      playback_ = std::make_unique<PlaybackFeed>(
-          PlaybackFeed::Handlers{handlers_.recorded_case_reading, handlers_.power});
-      PlaybackFeed* feed = playback_.get();
-      emulator_->on_playback_event(
-          [feed](const sim::lms200::PlaybackEvent& e) { feed->event_played(e); });
-    }
-    emulator_->start();
-    device = emulator_->device_path();
-    spdlog::info("emulated LMS 200 ({}) on {}", emulator_config_.scenario.string(), device);
-  }
+      handlers_(std::move(handlers)),
+      device_(make_device(config, {handlers_.recorded_case_reading, handlers_.power})) {
+  device_->start();
+  if (device_->in_process()) spdlog::info("{} on {}", device_->describe(), device_->path());
   driver_ = std::make_unique<hal::lms2xx::Lms2xxDriver>(
-      io, settings::driver_settings(link_config_, device),
+      io, settings::driver_settings(link_config_, device_->path()),
       [this](const hal::lms2xx::HostScan& s) { on_scan(s); },
       [this](hal::lms2xx::LinkState state, const std::string& why) { on_state(state, why); });
 }
@@ -50,8 +58,8 @@ void ScannerLink::stop() {
   driver_->stop();
 }
 
-void ScannerLink::stop_emulator() {
-  if (emulator_) emulator_->stop();
+void ScannerLink::stop_device() {
+  device_->stop();
 }
 
 void ScannerLink::reconnect_now() {
@@ -59,53 +67,35 @@ void ScannerLink::reconnect_now() {
 }
 
 void ScannerLink::housekeeping(Clock::time_point now) {
-  if (playback_) {
-    playback_->deliver(link_config_.scan_timeout);
-  } else if (emulator_ && !power_sensed_) {
-    handlers_.power(clock_.seconds(now), emulator_->power_on());
-  }
+  device_->poll(clock_.seconds(now));
 }
 
 std::optional<std::filesystem::path> ScannerLink::played_recording() const {
-  if (!playback_) return std::nullopt;
-  return emulator_config_.recording;
+  if (!device_->reports_case_readings()) return std::nullopt;
+  return recording_;
 }
 
 std::function<double()> ScannerLink::case_sensor_source() const {
-  sim::lms200::Emulator* emulator = emulator_.get();
-  return [emulator] {
-    if (!emulator) throw core::Error("the simulated case sensor needs the emulator");
-    return emulator->read_case_sensor();
-  };
+  if (auto source = device_->case_temperature()) return source;
+  return []() -> double { throw core::Error("the simulated case sensor needs the emulator"); };
 }
 
-std::unique_ptr<hal::PowerSwitch> ScannerLink::emulated_supply_switch() const {
-  if (!emulator_) return nullptr;
-  return std::make_unique<hal::PowerSwitch>(std::make_unique<EmulatorPowerLine>(*emulator_),
-                                            emulator_->power_on());
-}
-
-std::string ScannerLink::device() const {
-  return emulator_ ? "emulated LMS 200 (" + emulator_config_.scenario.string() + ")"
-                   : link_config_.device.string();
-}
-
-std::optional<sim::lms200::EmulatorCounters> ScannerLink::emulator_counters() const {
-  if (!emulator_) return std::nullopt;
-  return emulator_->counters();
+std::unique_ptr<hal::PowerSwitch> ScannerLink::supply_switch() const {
+  std::unique_ptr<hal::GpioOutput> supply = device_->supply();
+  if (!supply) return nullptr;
+  const bool on = supply->get();
+  return std::make_unique<hal::PowerSwitch>(std::move(supply), on);
 }
 
 void ScannerLink::on_scan(const hal::lms2xx::HostScan& host) {
   ArrivedScan arrived{to_raw_scan(host, link_config_.variant, 0.0), host.sequence, host.received,
                       std::nullopt};
-  // Playing a recording, the scan's recorded time (the readings recorded before it are handed
-  // over first); else when it arrived.
-  if (playback_) {
-    arrived.recorded_time_s = playback_->scan_arrived(arrived.raw);
-    if (!arrived.recorded_time_s) {
-      spdlog::warn("scan {} is not one the playback sent", host.sequence);
-    }
-  }
+  // The scan's time as the device has it (a played recording's, the events recorded before it
+  // handed over first); else when it arrived.
+  const hal::lms2xx::ScannerDevice::ScanTime when =
+      device_->scan_arrived(arrived.raw.ranges_mm, arrived.raw.no_echo);
+  if (when.unknown) spdlog::warn("scan {} is not one the playback sent", host.sequence);
+  arrived.recorded_time_s = when.time_s;
   handlers_.scan(std::move(arrived));
 }
 
