@@ -9,7 +9,7 @@
 //   service_status.hpp       systemd's status, readiness, watchdog
 //   recordings.hpp           the configured recording and a calibration run's
 //   compensation_inputs.hpp  the pipeline, its calibration, the power state, the case readings
-//   scanner_link.hpp         the driver, the emulated LMS 200 and its recording's playback
+//   scanner_link.hpp         the driver and the device behind it (hal/lms2xx/scanner_device.hpp)
 //   case_sensor_input.hpp    the case sensor's poll (or the recorded readings)
 //   power_sense_input.hpp    the power-sense line
 //   control.hpp              status, stats, reload and recalibration requests
