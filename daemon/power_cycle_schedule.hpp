@@ -2,7 +2,7 @@
 // scanner, its case temperature logged, a target at a known distance): on for on_s, off for
 // off_s, `cycles` times, then on again. It switches a hal::PowerSwitch on the Asio loop with a
 // timer (it never blocks) and reports each switching and its end. The daemon records around it
-// and trains on the recording (daemon/daemon_calibration_run.cpp).
+// and trains on the recording (daemon/power_cycle_run.hpp).
 //
 //   idle -> cycle 1 on -> cycle 1 off -> ... -> cycle n off -> finished (power on again)
 //                     \-> failed (the switch failed)   \-> cancelled (power on again)

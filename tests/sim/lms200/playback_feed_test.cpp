@@ -1,20 +1,21 @@
-// The daemon's side of a recording played by its emulator: readings and power changes reach
+// The host's side of a recording played by its emulator: readings and power changes reach
 // the pipeline in the recording's order around the scans, each scan takes its recorded time,
 // a scan lost on the line does not hold the events after it forever.
-#include "daemon/playback_feed.hpp"
+#include "sim/lms200/playback_feed.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
-namespace tofcomp::daemon {
+namespace tofcomp::sim::lms200 {
 namespace {
 
 using namespace std::chrono_literals;
-using sim::lms200::PlaybackEvent;
 
 constexpr double kNoEcho = std::numeric_limits<double>::quiet_NaN();
 
@@ -38,13 +39,15 @@ PlaybackEvent power(double t, bool on) {
 PlaybackEvent scan(double t, std::vector<double> ranges) {
   return {t, std::nullopt, std::nullopt, std::move(ranges)};
 }
-realtime::RawScan arrived(const std::vector<double>& ranges) {
-  realtime::RawScan raw;
+// A scan with these ranges arrived (NaN: no echo, a 0 range flagged).
+std::optional<double> arrive(PlaybackFeed& feed, const std::vector<double>& ranges) {
+  std::vector<double> ranges_mm;
+  std::vector<std::uint8_t> no_echo;
   for (const double r : ranges) {
-    raw.ranges_mm.push_back(std::isnan(r) ? 0.0 : r);
-    raw.no_echo.push_back(std::isnan(r) ? 1 : 0);
+    ranges_mm.push_back(std::isnan(r) ? 0.0 : r);
+    no_echo.push_back(std::isnan(r) ? 1 : 0);
   }
-  return raw;
+  return feed.scan_arrived(ranges_mm, no_echo);
 }
 
 TEST(PlaybackFeed, HandsOverTheEventsBeforeEachScanThenGivesItsRecordedTime) {
@@ -57,12 +60,12 @@ TEST(PlaybackFeed, HandsOverTheEventsBeforeEachScanThenGivesItsRecordedTime) {
   // Nothing goes before the scan behind which it was played.
   t.feed.deliver(10s);
   EXPECT_EQ(t.events, (std::vector<std::string>{"c0.500000:22.000000", "p0.600000:1"}));
-  EXPECT_EQ(t.feed.scan_arrived(arrived({1000.0, kNoEcho})), 0.7);
+  EXPECT_EQ(arrive(t.feed, {1000.0, kNoEcho}), 0.7);
   EXPECT_EQ(t.events.size(), 2u);  // the reading after it waits for the next scan
-  EXPECT_EQ(t.feed.scan_arrived(arrived({1001.0, 1002.0})), 0.8);
+  EXPECT_EQ(arrive(t.feed, {1001.0, 1002.0}), 0.8);
   EXPECT_EQ(t.events.back(), "c0.700000:22.500000");
   // A scan the playback never sent (or one of other ranges) has no recorded time.
-  EXPECT_EQ(t.feed.scan_arrived(arrived({1000.0, 1000.0})), std::nullopt);
+  EXPECT_EQ(arrive(t.feed, {1000.0, 1000.0}), std::nullopt);
 }
 
 TEST(PlaybackFeed, PassesOverAScanLostOnTheLine) {
@@ -70,7 +73,7 @@ TEST(PlaybackFeed, PassesOverAScanLostOnTheLine) {
   t.feed.event_played(scan(1.0, {1000.0}));  // lost
   t.feed.event_played(reading(1.05, 23.0));
   t.feed.event_played(scan(1.1, {1001.0}));
-  EXPECT_EQ(t.feed.scan_arrived(arrived({1001.0})), 1.1);
+  EXPECT_EQ(arrive(t.feed, {1001.0}), 1.1);
   EXPECT_EQ(t.events, (std::vector<std::string>{"c1.050000:23.000000"}));
   // The last scan lost: the events after it go once it is overdue.
   t.feed.event_played(scan(1.2, {1003.0}));
@@ -82,4 +85,4 @@ TEST(PlaybackFeed, PassesOverAScanLostOnTheLine) {
 }
 
 }  // namespace
-}  // namespace tofcomp::daemon
+}  // namespace tofcomp::sim::lms200

@@ -1,11 +1,11 @@
-#include "daemon/playback_feed.hpp"
+#include "sim/lms200/playback_feed.hpp"
 
 #include <cmath>
 #include <utility>
 
 #include "core/error.hpp"
 
-namespace tofcomp::daemon {
+namespace tofcomp::sim::lms200 {
 
 using Clock = std::chrono::steady_clock;
 
@@ -15,7 +15,7 @@ PlaybackFeed::PlaybackFeed(Handlers handlers) : handlers_(std::move(handlers)) {
   }
 }
 
-void PlaybackFeed::event_played(const sim::lms200::PlaybackEvent& event) {
+void PlaybackFeed::event_played(const PlaybackEvent& event) {
   std::lock_guard lock(mutex_);
   if (event.scan_ranges_mm.empty()) {
     queue_.emplace_back(event);
@@ -24,36 +24,38 @@ void PlaybackFeed::event_played(const sim::lms200::PlaybackEvent& event) {
   }
 }
 
-bool PlaybackFeed::same_ranges(const SentRanges& sent, const realtime::RawScan& scan) {
-  if (sent.ranges_mm.size() != scan.ranges_mm.size()) return false;
-  for (std::size_t b = 0; b < scan.ranges_mm.size(); ++b) {
-    const bool no_echo = std::isnan(sent.ranges_mm[b]);
-    if (no_echo != (scan.no_echo[b] != 0)) return false;
-    if (!no_echo && sent.ranges_mm[b] != scan.ranges_mm[b]) return false;
+bool PlaybackFeed::same_ranges(const SentRanges& sent, std::span<const double> ranges_mm,
+                               std::span<const std::uint8_t> no_echo) {
+  if (sent.ranges_mm.size() != ranges_mm.size()) return false;
+  for (std::size_t b = 0; b < ranges_mm.size(); ++b) {
+    const bool none = std::isnan(sent.ranges_mm[b]);
+    if (none != (no_echo[b] != 0)) return false;
+    if (!none && sent.ranges_mm[b] != ranges_mm[b]) return false;
   }
   return true;
 }
 
-void PlaybackFeed::hand_over(const sim::lms200::PlaybackEvent& event) const {
+void PlaybackFeed::hand_over(const PlaybackEvent& event) const {
   if (event.power) handlers_.power(event.time_s, *event.power);
   if (event.case_c) handlers_.case_reading(event.time_s, *event.case_c);
 }
 
-std::optional<double> PlaybackFeed::scan_arrived(const realtime::RawScan& scan) {
-  std::vector<sim::lms200::PlaybackEvent> before;
+std::optional<double> PlaybackFeed::scan_arrived(std::span<const double> ranges_mm,
+                                                 std::span<const std::uint8_t> no_echo) {
+  std::vector<PlaybackEvent> before;
   std::optional<double> time_s;
   {
     std::lock_guard lock(mutex_);
     std::size_t match = 0;
     while (match < queue_.size()) {
       const auto* sent = std::get_if<SentRanges>(&queue_[match]);
-      if (sent && same_ranges(*sent, scan)) break;
+      if (sent && same_ranges(*sent, ranges_mm, no_echo)) break;
       ++match;
     }
     if (match == queue_.size()) return std::nullopt;
     time_s = std::get<SentRanges>(queue_[match]).time_s;
     for (std::size_t i = 0; i < match; ++i) {
-      if (const auto* event = std::get_if<sim::lms200::PlaybackEvent>(&queue_[i])) {
+      if (const auto* event = std::get_if<PlaybackEvent>(&queue_[i])) {
         before.push_back(*event);
       }
     }
@@ -65,11 +67,11 @@ std::optional<double> PlaybackFeed::scan_arrived(const realtime::RawScan& scan) 
 
 void PlaybackFeed::deliver(Clock::duration lost_after) {
   const auto now = Clock::now();
-  std::vector<sim::lms200::PlaybackEvent> ready;
+  std::vector<PlaybackEvent> ready;
   {
     std::lock_guard lock(mutex_);
     while (!queue_.empty()) {
-      if (const auto* event = std::get_if<sim::lms200::PlaybackEvent>(&queue_.front())) {
+      if (const auto* event = std::get_if<PlaybackEvent>(&queue_.front())) {
         ready.push_back(*event);
       } else if (now - std::get<SentRanges>(queue_.front()).sent_at < lost_after) {
         break;  // on its way: the events after it wait for it
@@ -80,4 +82,4 @@ void PlaybackFeed::deliver(Clock::duration lost_after) {
   for (const auto& event : ready) hand_over(event);
 }
 
-}  // namespace tofcomp::daemon
+}  // namespace tofcomp::sim::lms200

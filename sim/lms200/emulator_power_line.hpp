@@ -1,6 +1,6 @@
 // The emulated LMS 200's supply as a GPIO output, so that a hal::PowerSwitch switches the
-// in-process emulated scanner (sim/lms200/emulator.hpp) as it would a real one's supply: the
-// daemon's power switch when the embedded default runs without hardware.
+// in-process emulated scanner (emulator.hpp) as it would a real one's supply: the daemon's power
+// switch when the embedded default runs without hardware (emulated_scanner_device.hpp).
 #pragma once
 
 #include <string>
@@ -8,12 +8,12 @@
 #include "hal/gpio/gpio_line.hpp"
 #include "sim/lms200/emulator.hpp"
 
-namespace tofcomp::daemon {
+namespace tofcomp::sim::lms200 {
 
 class EmulatorPowerLine : public hal::GpioOutput {
  public:
   // `emulator` must outlive the line.
-  explicit EmulatorPowerLine(sim::lms200::Emulator& emulator) : emulator_(emulator) {}
+  explicit EmulatorPowerLine(Emulator& emulator) : emulator_(emulator) {}
 
   // Active: the scanner is powered (Emulator::set_power).
   void set(bool active) override { emulator_.set_power(active); }
@@ -21,7 +21,7 @@ class EmulatorPowerLine : public hal::GpioOutput {
   std::string describe() const override { return "the emulated LMS 200's supply"; }
 
  private:
-  sim::lms200::Emulator& emulator_;
+  Emulator& emulator_;
 };
 
-}  // namespace tofcomp::daemon
+}  // namespace tofcomp::sim::lms200

@@ -1,0 +1,39 @@
+#include "daemon/running_config.hpp"
+
+#include <utility>
+
+#include "settings/daemon_config_yaml.hpp"
+#include "settings/embedded_default_config.hpp"
+
+namespace tofcomp::daemon {
+
+RunningConfig::RunningConfig(settings::DaemonConfig config, std::filesystem::path file)
+    : config_(std::move(config)), file_(std::move(file)) {}
+
+std::string RunningConfig::name() const {
+  return file_.empty() ? "built-in default" : file_.string();
+}
+
+std::string RunningConfig::source() const {
+  return file_.empty() ? "the built-in default" : file_.string();
+}
+
+settings::DaemonConfig RunningConfig::read() const {
+  return file_.empty() ? settings::embedded_default_config() : settings::load_daemon_config(file_);
+}
+
+void RunningConfig::apply(settings::DaemonConfig next) {
+  next.link = config_.link;
+  next.emulator = config_.emulator;
+  next.case_sensor = config_.case_sensor;
+  next.power = config_.power;
+  next.outputs = config_.outputs;
+  config_ = std::move(next);
+}
+
+std::filesystem::path RunningConfig::resolve(std::filesystem::path path) const {
+  if (path.is_relative() && !file_.empty()) return file_.parent_path() / path;
+  return path;
+}
+
+}  // namespace tofcomp::daemon
