@@ -39,10 +39,9 @@ std::string map_fit_detail_text(const core::MapFitResult& m) {
   for (const core::ThermalParameter p : core::kThermalParameters) {
     const auto i = static_cast<std::size_t>(p);
     out += fmt::format(
-        "    {:<2} {:10.4g} ± {:5.1f} %  {} (the data removed {:.0f} % of the prior's "
-        "variance)\n",
+        "    {:<2} {:10.4g} ± {:5.1f} %  (the log removed {:.0f} % of the datasheet's variance)\n",
         core::thermal_parameter_name(p), values[i], 100.0 * m.relative_std[i],
-        m.held[i] ? "held at the datasheet" : "from the data        ", 100.0 * m.data_share[i]);
+        100.0 * m.data_share[i]);
   }
   for (const core::PriorHeldDirection& d : m.prior_held_directions) {
     std::string direction;
