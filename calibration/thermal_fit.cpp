@@ -1,6 +1,20 @@
 #include "calibration/thermal_fit.hpp"
 
 namespace tofcomp::calibration {
+namespace {
+
+// What either method's result (core::MapFitResult, core::PemResult) says of the training part.
+template <typename Result>
+void take_result(const Result& r, ThermalFit& fit) {
+  fit.identified = r.parameters;
+  fit.training_rms_residual_c = r.rms_residual_c;
+  fit.training_paper_fit_percent = r.paper_fit_percent;
+  fit.training_nrmse_fit_percent = r.nrmse_fit_percent;
+  fit.iterations = r.iterations;
+  fit.converged = r.converged;
+}
+
+}  // namespace
 
 ThermalFit fit_thermal(const MeasuredData& train, const MeasuredData* held_out,
                        const ThermalFitSettings& settings) {
@@ -10,22 +24,12 @@ ThermalFit fit_thermal(const MeasuredData& train, const MeasuredData* held_out,
   const core::CaseTemperatureLog training_log = case_log(train, settings.ambient_fallback_c);
   if (settings.method == ThermalFitMethod::DatasheetPrior) {
     fit.map = core::identify_with_datasheet_prior(training_log, fit.algorithm1, settings.prior);
-    fit.identified = fit.map->parameters;
-    fit.training_rms_residual_c = fit.map->rms_residual_c;
-    fit.training_paper_fit_percent = fit.map->paper_fit_percent;
-    fit.training_nrmse_fit_percent = fit.map->nrmse_fit_percent;
-    fit.iterations = fit.map->iterations;
-    fit.converged = fit.map->converged;
+    take_result(*fit.map, fit);
   } else {
     core::PemOptions options;
     options.free = settings.free;
     fit.pem = core::identify_by_prediction_error(training_log, fit.algorithm1, options);
-    fit.identified = fit.pem->parameters;
-    fit.training_rms_residual_c = fit.pem->rms_residual_c;
-    fit.training_paper_fit_percent = fit.pem->paper_fit_percent;
-    fit.training_nrmse_fit_percent = fit.pem->nrmse_fit_percent;
-    fit.iterations = fit.pem->iterations;
-    fit.converged = fit.pem->converged;
+    take_result(*fit.pem, fit);
   }
   if (held_out != nullptr && held_out->temperature_time_s.size() >= 2) {
     const core::CaseTemperatureLog log = case_log(*held_out, settings.ambient_fallback_c);
