@@ -78,6 +78,25 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   return text.replace(at, from.size(), to);
 }
 
+// The trained junction range is optional: absent it stays absent (a file from before it existed
+// reads as it did); present it round-trips, and a range with min above max is refused.
+TEST(CalibrationFile, TrainedJunctionRangeRoundTrips) {
+  const std::string file = temp_file("calibration-range.yaml");
+  core::Calibration c = example();
+  write_calibration_file(file, c);
+  EXPECT_FALSE(read_calibration_file(file).model.trained_junction_c.has_value());
+  EXPECT_EQ(read_all(file).find("trained_junction_c"), std::string::npos);
+  c.model.trained_junction_c = core::TemperatureRange{24.8125, 28.6875};
+  write_calibration_file(file, c);
+  const core::Calibration back = read_calibration_file(file);
+  ASSERT_TRUE(back.model.trained_junction_c.has_value());
+  EXPECT_EQ(back.model.trained_junction_c->min_c, 24.8125);
+  EXPECT_EQ(back.model.trained_junction_c->max_c, 28.6875);
+  const std::string inverted = replaced(read_all(file), "min: 24.8125", "min: 30");
+  std::ofstream(file) << inverted;
+  EXPECT_THROW(read_calibration_file(file), YamlSchemaError);
+}
+
 TEST(CalibrationFile, ErrorsNameTheFileAndKey) {
   const std::string good = calibration_to_yaml(example());
   EXPECT_NE(error_of(replaced(good, "version: 1", "version: 2")).find("version is 2"),

@@ -69,6 +69,38 @@ TEST(ScanCompensator, RemovesTheBiasAndTheModeOffset) {
   EXPECT_DOUBLE_EQ(last.junction_c, 26.0);
 }
 
+// Beyond the junction temperatures the calibration was trained on, the scan is flagged
+// temperature_extrapolated and the bias continues along its tangent at the nearer end; inside,
+// no flag and the basis itself.
+TEST(ScanCompensator, FlagsAJunctionOutsideTheTrainedRange) {
+  core::Calibration c = testing::round_calibration();
+  c.model.basis = core::Basis(
+      {core::BasisTerm{core::BasisKind::Polynomial, 2, core::PolynomialForm::RawPower, 0.0}},
+      core::TemperatureScaling{0.0, 1.0});
+  c.model.theta = Eigen::Vector2d(-50.0, 1.0);  // H(t)θ = t² − 50 t = (t − 25)² − 625
+  c.model.trained_junction_c = core::TemperatureRange{24.0, 26.0};
+  ASSERT_DOUBLE_EQ(c.model.bias_at(25.5), 0.25 - 625.0);
+  // The tangent at 26 °C: 1 + 2 (t − 26) − 625 (the basis itself gives 4 − 625 at 27 °C), by a
+  // difference over 1 % of the range (error 0.02); at 23 °C the tangent at 24 °C.
+  EXPECT_NEAR(c.model.bias_at(27.0), 3.0 - 625.0, 0.03);
+  EXPECT_NEAR(c.model.bias_at(23.0), 3.0 - 625.0, 0.03);
+  EXPECT_FALSE(c.model.extrapolates(24.0));
+  EXPECT_TRUE(c.model.extrapolates(26.01));
+  ScanCompensator compensator(incremental());
+  compensator.set_calibration(std::make_shared<core::Calibration>(c), 1);
+  RawScan scan;
+  scan.ranges_mm = {3000.0};
+  scan.no_echo = {0};
+  const ipc::CompensatedScan inside = compensator.compensate(scan, junction_at(25.5), 0);
+  EXPECT_EQ(inside.beams[0].flags & ipc::kBeamTemperatureExtrapolated, 0);
+  const ipc::CompensatedScan outside = compensator.compensate(scan, junction_at(27.0), 1);
+  EXPECT_EQ(outside.beams[0].flags & ipc::kBeamTemperatureExtrapolated,
+            ipc::kBeamTemperatureExtrapolated);
+  EXPECT_NEAR(outside.beams[0].raw_mm - outside.beams[0].compensated_mm -
+                  c.model.noise.mean[outside.beams[0].most_probable_mode],
+              3.0 - 625.0, 0.03);
+}
+
 // Without a calibration, or before any case reading, only the raw ranges are published, with
 // the flag that says why; the windows start when both are there.
 TEST(ScanCompensator, FlagsWhatIsMissing) {
