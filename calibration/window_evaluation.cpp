@@ -1,5 +1,7 @@
 #include "calibration/window_evaluation.hpp"
 
+#include "core/cramer_rao.hpp"
+
 namespace tofcomp::calibration {
 
 std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
@@ -15,6 +17,8 @@ std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
     if (progress) progress(static_cast<double>(w) / static_cast<double>(windows.size()));
     WindowEvaluation e;
     e.window = windows[w];
+    e.cramer_rao_mae_mm =
+        core::cramer_rao_mae_mm(calibration.model.noise, kRangeResolutionMm, e.window);
     e.estimates = calibration.extension
                       ? core::estimate_windows(
                             data.range_mm, compensation.bias_mm,

@@ -13,8 +13,14 @@
 
 namespace tofcomp::calibration {
 
+// The LMS 200 reports whole millimetres: the rounding the Cramér–Rao bound accounts for.
+inline constexpr double kRangeResolutionMm = 1.0;
+
 struct WindowEvaluation {
   Eigen::Index window = 0;
+  // The Cramér–Rao bound of d for this window length as a mean absolute error
+  // (core/cramer_rao.hpp), from the calibration's modes with their bias known.
+  double cramer_rao_mae_mm = 0.0;
   core::WindowEstimates estimates;
   bool has_truth = false;
   Eigen::VectorXd truth_mm;           // mean true distance of each window

@@ -121,12 +121,15 @@ nlohmann::json to_json(const core::Calibration& c) {
 nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluations) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& e : evaluations) {
-    nlohmann::json j = {{"window", e.window}, {"windows", e.estimates.start.size()}};
+    nlohmann::json j = {{"window", e.window},
+                        {"windows", e.estimates.start.size()},
+                        {"cramer_rao_mae_mm", e.cramer_rao_mae_mm}};
     if (e.has_truth) {
       j["em"] = to_json(e.em);
       j["raw_mean"] = to_json(e.raw);
       j["bias_corrected_mean"] = to_json(e.bias_corrected);
       j["mae_improvement"] = e.raw.mean_absolute_error / e.em.mean_absolute_error;
+      j["mae_over_cramer_rao"] = e.em.mean_absolute_error / e.cramer_rao_mae_mm;
     } else {
       j["em_distance_mm"] =
           std::vector<double>(e.estimates.em_distance.data(),
@@ -190,6 +193,9 @@ std::string window_table_text(const std::vector<calibration::WindowEvaluation>& 
     }
     out += fmt::format("{:>7} {:>8}  MAE raw / MAE EM = {:.2f}\n", e.window, "",
                        e.raw.mean_absolute_error / e.em.mean_absolute_error);
+    out +=
+        fmt::format("{:>7} {:>8}  Cramér–Rao bound {:.3f} mm: MAE EM / bound = {:.2f}\n", e.window,
+                    "", e.cramer_rao_mae_mm, e.em.mean_absolute_error / e.cramer_rao_mae_mm);
   }
   return out;
 }
