@@ -278,7 +278,9 @@ std::vector<WindowComparison> compare_windows(const MeasuredData& test,
   const auto b = evaluate_windows(test, before, before_compensation, usable, stride);
   const auto a = evaluate_windows(test, after, after_compensation, usable, stride);
   std::vector<WindowComparison> out;
-  for (std::size_t i = 0; i < usable.size(); ++i) out.push_back({usable[i], b[i].em, a[i].em});
+  for (std::size_t i = 0; i < usable.size(); ++i) {
+    out.push_back({usable[i], b[i].em, a[i].em, b[i].cramer_rao_mae_mm});
+  }
   return out;
 }
 

@@ -32,8 +32,9 @@ inline constexpr double kMinimumMaeFactor = 1.01;
 
 struct WindowComparison {
   Eigen::Index window = 0;
-  core::ErrorMoments before;  // d̂ of the paper's model on the held-out part
-  core::ErrorMoments after;   // d̂ of the extended model
+  core::ErrorMoments before;       // d̂ of the paper's model on the held-out part
+  core::ErrorMoments after;        // d̂ of the extended model
+  double cramer_rao_mae_mm = 0.0;  // the bound of d under the paper's modes (core/cramer_rao.hpp)
 };
 
 struct ExtensionReport {
