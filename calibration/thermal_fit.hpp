@@ -31,16 +31,11 @@ struct ThermalFitSettings {
 
 struct ThermalFit {
   core::ThermalParameters algorithm1;
-  ThermalFitMethod method = ThermalFitMethod::DatasheetPrior;
   std::optional<core::MapFitResult> map;  // DatasheetPrior's result
-  std::optional<core::PemResult> pem;     // PredictionError's result
+  std::optional<core::PemResult> pem;     // PredictionError's result, when map is absent
   // What either method identified, and its fit on the training part.
-  core::ThermalParameters identified;
-  double training_rms_residual_c = 0.0;
-  double training_paper_fit_percent = 0.0;  // Eq. 26
-  double training_nrmse_fit_percent = 0.0;
-  int iterations = 0;
-  bool converged = false;
+  const core::ThermalFitResult& training() const;
+  const core::ThermalParameters& identified() const { return training().parameters; }
   bool has_held_out = false;
   double held_out_paper_fit_percent = 0.0;  // Eq. 26 on the held-out part
   double held_out_nrmse_fit_percent = 0.0;

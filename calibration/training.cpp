@@ -11,7 +11,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   data.require_true_ranges();
   Training t;
   t.thermal = fit_thermal(data, held_out, settings.thermal);
-  const core::ThermalParameters& thermal = t.thermal.identified;
+  const core::ThermalParameters& thermal = t.thermal.identified();
   t.junction =
       junction_at_ranges(data, thermal, settings.noise, settings.thermal.ambient_fallback_c);
 

@@ -12,13 +12,15 @@ std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
                                                const std::function<void(double)>& progress) {
   bool has_truth = data.range_mm.size() > 0;
   for (const bool known : data.has_true_range) has_truth = has_truth && known;
+  // One range's information about d: the same for every window length.
+  const double range_information =
+      core::range_fisher_information(calibration.model.noise, kRangeResolutionMm);
   std::vector<WindowEvaluation> out;
   for (std::size_t w = 0; w < windows.size(); ++w) {
     if (progress) progress(static_cast<double>(w) / static_cast<double>(windows.size()));
     WindowEvaluation e;
     e.window = windows[w];
-    e.cramer_rao_mae_mm =
-        core::cramer_rao_mae_mm(calibration.model.noise, kRangeResolutionMm, e.window);
+    e.cramer_rao_mae_mm = core::cramer_rao_mae_mm(range_information, e.window);
     e.estimates = calibration.extension
                       ? core::estimate_windows(
                             data.range_mm, compensation.bias_mm,

@@ -33,7 +33,7 @@ void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& 
       const calibration::ThermalFit fit = calibration::fit_thermal(measured, nullptr, settings);
       core::ThermalNoise noise;
       const calibration::SmoothedJunction junction = calibration::junction_at_ranges(
-          measured, fit.identified, noise, settings.ambient_fallback_c);
+          measured, fit.identified(), noise, settings.ambient_fallback_c);
       const auto bases = calibration::parse_candidates(*candidates, junction.junction_c);
       progress.update(0.2, std::to_string(bases.size()) + " candidates");
       core::SelectionOptions options;

@@ -63,14 +63,15 @@ std::string map_fit_detail_text(const core::MapFitResult& m) {
 }  // namespace
 
 nlohmann::json to_json(const calibration::ThermalFit& fit) {
+  const core::ThermalFitResult& training = fit.training();
   nlohmann::json j = {{"algorithm1", thermal_json(fit.algorithm1)},
                       {"method", fit.map ? "datasheet_prior" : "prediction_error"},
-                      {"identified", thermal_json(fit.identified)},
-                      {"iterations", fit.iterations},
-                      {"converged", fit.converged},
-                      {"training_rms_residual_c", fit.training_rms_residual_c},
-                      {"training_paper_fit_percent", fit.training_paper_fit_percent},
-                      {"training_nrmse_fit_percent", fit.training_nrmse_fit_percent}};
+                      {"identified", thermal_json(training.parameters)},
+                      {"iterations", training.iterations},
+                      {"converged", training.converged},
+                      {"training_rms_residual_c", training.rms_residual_c},
+                      {"training_paper_fit_percent", training.paper_fit_percent},
+                      {"training_nrmse_fit_percent", training.nrmse_fit_percent}};
   if (fit.map) {
     const core::MapFitResult& m = *fit.map;
     nlohmann::json parameters = nlohmann::json::array();
@@ -145,16 +146,17 @@ std::string thermal_fit_text(const calibration::ThermalFit& fit) {
   out += "thermal model (§3)\n";
   out += "  Algorithm 1 (datasheet): " + thermal_line(fit.algorithm1) + "\n";
   if (fit.map) {
-    out += "  fit, datasheet as prior: " + thermal_line(fit.identified) + "\n";
+    out += "  fit, datasheet as prior: " + thermal_line(fit.identified()) + "\n";
     out += map_fit_detail_text(*fit.map);
   } else {
-    out += "  prediction-error fit:    " + thermal_line(fit.identified) + "\n";
+    out += "  prediction-error fit:    " + thermal_line(fit.identified()) + "\n";
   }
   out += fmt::format(
       "  training fit: RMS {:.4f} °C, Eq. 26 {:.5f} %, NRMSE fit {:.2f} % ({} "
       "iterations{})\n",
-      fit.training_rms_residual_c, fit.training_paper_fit_percent, fit.training_nrmse_fit_percent,
-      fit.iterations, fit.converged ? "" : ", not converged");
+      fit.training().rms_residual_c, fit.training().paper_fit_percent,
+      fit.training().nrmse_fit_percent, fit.training().iterations,
+      fit.training().converged ? "" : ", not converged");
   if (fit.has_held_out) {
     out += fmt::format("  held-out fit: Eq. 26 {:.5f} % (paper: 92.79 %), NRMSE fit {:.2f} %\n",
                        fit.held_out_paper_fit_percent, fit.held_out_nrmse_fit_percent);

@@ -64,12 +64,13 @@ double range_fisher_information(const MixtureParameters& modes, double resolutio
   return total / kRoundingPhases;
 }
 
-double cramer_rao_mae_mm(const MixtureParameters& modes, double resolution_mm, Eigen::Index n) {
-  if (n < 1)
+double cramer_rao_mae_mm(double range_information, Eigen::Index n) {
+  if (n < 1) {
     throw InvalidInput("a window needs at least one range (n = " + std::to_string(n) + ")");
-  const double information = range_fisher_information(modes, resolution_mm);
+  }
+  require_positive(range_information, "Fisher information of a range");
   return std::sqrt(2.0 / std::numbers::pi) *
-         std::sqrt(1.0 / (static_cast<double>(n) * information));
+         std::sqrt(1.0 / (static_cast<double>(n) * range_information));
 }
 
 }  // namespace tofcomp::core

@@ -23,7 +23,8 @@ namespace tofcomp::core {
 // resolution that is not positive and finite.
 double range_fisher_information(const MixtureParameters& modes, double resolution_mm);
 
-// √(2/π) √(1 / (n I)) for windows of n ranges (n ≥ 1), in mm.
-double cramer_rao_mae_mm(const MixtureParameters& modes, double resolution_mm, Eigen::Index n);
+// √(2/π) √(1 / (n I)) for windows of n ranges (n ≥ 1), in mm, from I of one range. Throws
+// InvalidInput unless n ≥ 1 and I is positive and finite.
+double cramer_rao_mae_mm(double range_information, Eigen::Index n);
 
 }  // namespace tofcomp::core

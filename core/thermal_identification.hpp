@@ -132,17 +132,21 @@ struct PemOptions {
   double max_relative_std = 0.5;
 };
 
-struct PemResult {
+// What a fit of the thermal network to a case log gives, whichever method made it.
+struct ThermalFitResult {
   ThermalParameters parameters;
-  // Approximate standard deviation of log p for each free parameter (≈ its relative standard
-  // error), from σ̂² (JᵀJ)⁻¹ at the optimum; 0 for fixed parameters. Indexed by ThermalParameter.
-  std::array<double, kThermalParameterCount> relative_std{};
   Eigen::VectorXd predicted_case_c;  // the output-error prediction at the optimum
   double rms_residual_c = 0.0;
   double paper_fit_percent = 0.0;  // Eq. 26
   double nrmse_fit_percent = 0.0;
   int iterations = 0;
   bool converged = false;
+};
+
+struct PemResult : ThermalFitResult {
+  // Approximate standard deviation of log p for each free parameter (≈ its relative standard
+  // error), from σ̂² (JᵀJ)⁻¹ at the optimum; 0 for fixed parameters. Indexed by ThermalParameter.
+  std::array<double, kThermalParameterCount> relative_std{};
 };
 
 // The prediction-error fit of the free parameters, starting from `initial` (e.g. Algorithm 1's

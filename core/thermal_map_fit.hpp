@@ -65,8 +65,7 @@ struct PriorHeldDirection {
   double data_over_prior = 0.0;
 };
 
-struct MapFitResult {
-  ThermalParameters parameters;
+struct MapFitResult : ThermalFitResult {
   ThermalParameters prior;  // Algorithm 1's answer, the prior's centre
   // Posterior standard deviation of log p, and the data share 1 − var_post / var_prior, per
   // parameter in ThermalParameter order; held: the share is below held_below_data_share.
@@ -74,14 +73,8 @@ struct MapFitResult {
   std::array<double, kThermalParameterCount> data_share{};
   std::array<bool, kThermalParameterCount> held{};
   std::vector<PriorHeldDirection> prior_held_directions;  // weakest first
-  Eigen::VectorXd predicted_case_c;
-  double rms_residual_c = 0.0;
-  double residual_lag1_correlation = 0.0;  // ρ
-  double effective_samples = 0.0;          // K_eff
-  double paper_fit_percent = 0.0;          // Eq. 26
-  double nrmse_fit_percent = 0.0;
-  int iterations = 0;  // of both fits
-  bool converged = false;
+  double residual_lag1_correlation = 0.0;                 // ρ
+  double effective_samples = 0.0;                         // K_eff
 };
 
 // The MAP fit of all five parameters around `datasheet` (Algorithm 1's answer). Needs at least

@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "daemon/daemon.hpp"
 #include "daemon/service/logging.hpp"
+#include "io/version.hpp"
 #include "settings/daemon_config_yaml.hpp"
 #include "settings/embedded_default_config.hpp"
 #include "settings/pipeline_setup.hpp"
@@ -31,7 +32,7 @@ int main(int argc, char** argv) {
   app.add_flag("--check-config", check_only, "Read and check the configuration, then exit");
   app.add_flag("--print-default-config", print_default,
                "Print the built-in configuration (a starting point) and exit");
-  app.set_version_flag("--version", std::string("tofcompd ") + TOFCOMP_VERSION);
+  app.set_version_flag("--version", std::string("tofcompd ") + tofcomp::io::kVersion);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -66,7 +67,7 @@ int main(int argc, char** argv) {
     }
     service::configure_logging(cfg.log.target, cfg.log.level);
     logging = true;
-    spdlog::info("tofcompd {} starting with {}", TOFCOMP_VERSION, cfg.source);
+    spdlog::info("tofcompd {} starting with {}", tofcomp::io::kVersion, cfg.source);
     Daemon daemon(cfg, config_file);
     return daemon.run();
   } catch (const tofcomp::core::Error& e) {
