@@ -5,23 +5,80 @@
 #include "io/version.hpp"
 
 namespace tofcomp::calibration {
+namespace {
+
+// Shares of the work, for progress: the search dominates when it runs.
+constexpr double kThermalShare = 0.1;
+constexpr double kNoiseShare = 0.2;
+constexpr double kSearchShare = 0.9;
+
+void report(const TrainingProgress& progress, double share, const std::string& stage) {
+  if (progress) progress(share, stage);
+}
+
+// The structure of Eq. 8: the user's basis and modes, or the search's choice among candidates.
+core::StructureChoice choose_structure(const TrainSettings& settings,
+                                       const Eigen::VectorXd& junction_c,
+                                       const Eigen::VectorXd& y_minus_d,
+                                       const TrainingProgress& progress) {
+  core::StructureSearchOptions options = settings.search;
+  if (settings.basis) options.basis = parse_basis(*settings.basis, junction_c);
+  options.modes = settings.modes;
+  int visited = 0;
+  return core::search_structure(junction_c, y_minus_d, options,
+                                [&](const core::CandidateEvidence& e) {
+                                  ++visited;
+                                  report(progress, kNoiseShare + (kSearchShare - kNoiseShare) *
+                                                                     (1.0 - 1.0 / (1.0 + visited / 8.0)),
+                                         "structure: " + e.name);
+                                });
+}
+
+}  // namespace
 
 Training train_calibration(const MeasuredData& data, const TrainSettings& settings,
-                           const MeasuredData* held_out) {
+                           const MeasuredData* held_out, const TrainingProgress& progress) {
   data.require_true_ranges();
   Training t;
+  report(progress, 0.0, "thermal fit");
   t.thermal = fit_thermal(data, held_out, settings.thermal);
   const core::ThermalParameters& thermal = t.thermal.identified();
-  t.junction =
-      junction_at_ranges(data, thermal, settings.noise, settings.thermal.ambient_fallback_c);
 
-  const core::Basis basis = parse_basis(settings.basis, t.junction.junction_c);
+  report(progress, kThermalShare, "Kalman noise levels");
+  core::ThermalNoise noise;
+  if (settings.noise) {
+    noise = *settings.noise;
+  } else {
+    t.kalman_noise = core::fit_kalman_noise(
+        case_log(data, settings.thermal.ambient_fallback_c), thermal, core::ThermalNoise{});
+    noise = t.kalman_noise->noise;
+  }
+  t.junction = junction_at_ranges(data, thermal, noise, settings.thermal.ambient_fallback_c);
+  const Eigen::VectorXd y_minus_d = data.range_mm - data.true_range_mm;
+
+  core::EmTrainOptions em = settings.em;
+  core::Basis basis;
+  if (settings.basis && settings.modes) {
+    basis = parse_basis(*settings.basis, t.junction.junction_c);
+    em.modes = *settings.modes;
+  } else {
+    report(progress, kNoiseShare, "structure of Eq. 8");
+    t.structure = choose_structure(settings, t.junction.junction_c, y_minus_d, progress);
+    basis = t.structure->basis;
+    em.modes = t.structure->modes;
+    // The final fit starts where the search's (looser) fit of the chosen candidate ended, unless
+    // the paper's start (Eq. 20) or M-step (Eq. 19 as printed) is asked for, to reproduce them.
+    if (em.initialization == core::EmInitialization::Quantiles && em.m_step == core::MStep::Exact) {
+      em.start = core::EmStartingPoint{t.structure->fit.theta, t.structure->fit.mixture};
+    }
+  }
+  report(progress, kSearchShare, "EM training");
   const Eigen::MatrixXd h = basis.design_matrix(t.junction.junction_c);
-  t.em = core::train_em(h, data.range_mm - data.true_range_mm, settings.em);
+  t.em = core::train_em(h, y_minus_d, em);
 
   core::Calibration& c = t.calibration;
   c.thermal = thermal;
-  c.noise = settings.noise;
+  c.noise = noise;
   c.ambient_c = settings.thermal.ambient_fallback_c;
   c.model.basis = basis;
   c.model.theta = t.em.theta;
@@ -35,6 +92,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   c.provenance.notes = "beam " + std::to_string(data.beam) + "; EM " +
                        std::to_string(t.em.iterations) + " iterations" +
                        (t.em.converged ? "" : " (iteration cap reached)");
+  report(progress, 1.0, "done");
   return t;
 }
 

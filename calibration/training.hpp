@@ -1,7 +1,10 @@
-// The whole of training (§3 and §5) on measured data with a known distance: thermal fit, smoothed
-// junction temperature, EM training of Eq. 8 into a calibration.
+// The whole of training (§3 and §5) on measured data with a known distance: thermal fit, the
+// Kalman filter's noise levels, smoothed junction temperature, the structure of Eq. 8 (basis and
+// number of modes) and EM training of Eq. 8 into a calibration.
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <string>
 
 #include "calibration/junction_estimate.hpp"
@@ -9,27 +12,42 @@
 #include "calibration/thermal_fit.hpp"
 #include "core/calibration.hpp"
 #include "core/em_train.hpp"
+#include "core/kalman_noise_fit.hpp"
+#include "core/structure_search.hpp"
 
 namespace tofcomp::calibration {
 
 struct TrainSettings {
   ThermalFitSettings thermal;
-  core::ThermalNoise noise;
-  std::string basis = "polynomial:4";
-  core::EmTrainOptions em;
+  // The junction filter's noise levels (§3.3). Absent: chosen from the case log by the
+  // innovations' likelihood (core/kalman_noise_fit.hpp), starting from core::ThermalNoise's
+  // LMS 200 levels, which stay for any level the log does not determine.
+  std::optional<core::ThermalNoise> noise;
+  // H(.) as named by calibration/basis_spec.hpp, and the number of lasing modes. Absent: chosen
+  // from the data by held-out likelihood (core/structure_search.hpp).
+  std::optional<std::string> basis;
+  std::optional<int> modes;
+  core::EmTrainOptions em;  // the final fit's options (em.modes is set from `modes` or the search)
+  core::StructureSearchOptions search;
 };
 
 struct Training {
   core::Calibration calibration;
   ThermalFit thermal;
+  std::optional<core::KalmanNoiseFit> kalman_noise;  // when the levels were chosen from the log
   SmoothedJunction junction;
+  std::optional<core::StructureChoice> structure;  // when basis or modes were chosen
   core::EmTrainResult em;
 };
+
+// Progress of training's long stages: a share in [0, 1] and what runs.
+using TrainingProgress = std::function<void(double share, const std::string& stage)>;
 
 // The whole of training on data with a known distance; the calibration's provenance names
 // the data set. With held_out, the thermal model's fit is also reported on it (§8.1).
 // Throws core::Error with the reason when any stage fails.
 Training train_calibration(const MeasuredData& data, const TrainSettings& settings,
-                           const MeasuredData* held_out = nullptr);
+                           const MeasuredData* held_out = nullptr,
+                           const TrainingProgress& progress = {});
 
 }  // namespace tofcomp::calibration

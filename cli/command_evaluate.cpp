@@ -8,6 +8,7 @@
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
 #include "cli/shared_options.hpp"
+#include "cli/structure_format.hpp"
 
 namespace tofcomp::cli {
 
@@ -45,7 +46,9 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
       test.require_true_ranges();
       progress.update(0.05, "training");
       const calibration::TrainSettings settings = training->settings();
-      const calibration::Training t = calibration::train_calibration(train, settings, &test);
+      const calibration::Training t = calibration::train_calibration(
+          train, settings, &test,
+          [&](double share, const std::string& stage) { progress.update(0.05 + 0.15 * share, stage); });
       if (!calibration_out->empty()) io::write_calibration_file(*calibration_out, t.calibration);
       const calibration::Compensation compensation = calibration::compensate(test, t.calibration);
       const auto evaluations = calibration::evaluate_windows(
@@ -61,11 +64,12 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
                      {"training_samples", train.range_mm.size()},
                      {"test_samples", test.range_mm.size()},
                      {"thermal_fit", to_json(t.thermal)},
+                     {"choices", choices_json(t)},
                      {"calibration", to_json(t.calibration)},
                      {"windows", to_json(evaluations)}};
       result.text = fmt::format("trained on {} ranges before t = {:.0f} s, tested on {} after\n",
                                 train.range_mm.size(), split, test.range_mm.size()) +
-                    thermal_fit_text(t.thermal) + calibration_text(t.calibration) +
+                    thermal_fit_text(t.thermal) + choices_text(t) + calibration_text(t.calibration) +
                     "error of the window estimates against the true distance (§8.4):\n" +
                     window_table_text(evaluations);
       return result;

@@ -10,6 +10,13 @@
 #include "io/datasheet_file.hpp"
 
 namespace tofcomp::cli {
+namespace {
+
+// --basis and --modes: chosen from the data.
+constexpr const char* kAuto = "auto";
+constexpr int kMaxModes = 10;
+
+}  // namespace
 
 calibration::MeasuredData DataOptions::load() const {
   std::vector<std::string> warnings;
@@ -59,13 +66,12 @@ calibration::ThermalFitSettings ThermalOptions::settings() const {
   return s;
 }
 
-core::ThermalNoise ThermalOptions::noise() const {
+std::optional<core::ThermalNoise> ThermalOptions::noise() const {
+  if (kalman_noise.empty()) return std::nullopt;
   core::ThermalNoise n;
-  if (!kalman_noise.empty()) {
-    n.case_process_psd_k2_per_s = kalman_noise[0];
-    n.junction_process_psd_k2_per_s = kalman_noise[1];
-    n.measurement_variance_k2 = kalman_noise[2];
-  }
+  n.case_process_psd_k2_per_s = kalman_noise[0];
+  n.junction_process_psd_k2_per_s = kalman_noise[1];
+  n.measurement_variance_k2 = kalman_noise[2];
   n.validate();
   return n;
 }
@@ -92,7 +98,8 @@ std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd) {
       ->capture_default_str();
   cmd.add_option("--kalman-noise", o->kalman_noise,
                  "Junction-temperature filter noise (§3.3): case and junction process noise "
-                 "(K²/s) and sensor variance (K²), e.g. 1e-6,1e-4,3.3e-4")
+                 "(K²/s) and sensor variance (K²), e.g. 1e-6,1e-4,3.3e-4; default: chosen "
+                 "from the case log by the innovations' likelihood")
       ->expected(3)
       ->delimiter(',');
   return o;
@@ -102,12 +109,27 @@ calibration::TrainSettings TrainingOptions::settings() const {
   calibration::TrainSettings s;
   s.thermal = thermal->settings();
   s.noise = thermal->noise();
-  s.basis = basis;
-  s.em.modes = modes;
+  if (basis != kAuto) s.basis = basis;
+  if (modes != kAuto) {
+    std::size_t used = 0;
+    int m = 0;
+    try {
+      m = std::stoi(modes, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != modes.size() || m < 1 || m > kMaxModes) {
+      throw core::InvalidInput("--modes: '" + modes + "' is neither auto nor a mode count 1.." +
+                               std::to_string(kMaxModes));
+    }
+    s.modes = m;
+  }
   s.em.max_iterations = max_iterations;
   s.em.m_step = paper_m_step ? core::MStep::PaperAsPrinted : core::MStep::Exact;
   s.em.initialization =
       paper_init ? core::EmInitialization::Paper : core::EmInitialization::Quantiles;
+  // Eq. 20 is defined for two modes: with --paper-init the paper's M, unless given.
+  if (paper_init && !s.modes) s.modes = 2;
   return s;
 }
 
@@ -115,13 +137,16 @@ std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd) {
   auto o = std::make_shared<TrainingOptions>();
   o->thermal = add_thermal_options(cmd);
   cmd.add_option("--basis", o->basis,
-                 "H(.): polynomial:N[:legendre|raw], fourier:N:F0, joined by +")
+                 "H(.): polynomial:N[:legendre|raw], fourier:N:F0, joined by +; auto: the family "
+                 "and order that predict held-out ranges best (§7)")
       ->capture_default_str();
-  cmd.add_option("--modes", o->modes, "Lasing modes M")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 10));
+  cmd.add_option("--modes", o->modes,
+                 "Lasing modes M (1-" + std::to_string(kMaxModes) +
+                     "); auto: the number that predicts held-out ranges best")
+      ->capture_default_str();
   cmd.add_flag("--paper-m-step", o->paper_m_step, "Use Eq. 19 as printed (docs/em-m-step.md)");
-  cmd.add_flag("--paper-init", o->paper_init, "Start from Eq. 20 (two modes only)");
+  cmd.add_flag("--paper-init", o->paper_init,
+               "Start from Eq. 20 (two modes only: --modes defaults to 2 with it)");
   cmd.add_option("--max-iterations", o->max_iterations, "EM iteration cap")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

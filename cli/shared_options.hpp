@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,16 +26,17 @@ struct ThermalOptions {
   const CLI::Option* free_option = nullptr;  // given: the paper's prediction-error method
   double prior_factor = 2.0;                 // one σ of the datasheet prior, as a factor
   double ambient_c = 22.0;
-  std::vector<double> kalman_noise;  // q_case, q_junction, r; empty: core::ThermalNoise's
+  std::vector<double> kalman_noise;  // q_case, q_junction, r; empty: chosen from the case log
   calibration::ThermalFitSettings settings() const;
-  core::ThermalNoise noise() const;
+  // The levels given with --kalman-noise; absent: training chooses them from the case log.
+  std::optional<core::ThermalNoise> noise() const;
 };
 std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd);
 
 struct TrainingOptions {
   std::shared_ptr<ThermalOptions> thermal;
-  std::string basis = "polynomial:4";
-  int modes = 2;
+  std::string basis = "auto";  // auto: chosen from the data (core/structure_search.hpp)
+  std::string modes = "auto";
   bool paper_m_step = false;
   bool paper_init = false;
   int max_iterations = 1000;

@@ -118,6 +118,16 @@ MStepResult quantile_initialization(const Eigen::Ref<const Eigen::MatrixXd>& h,
   return init;
 }
 
+// A warm start: θ padded with zeros to H's columns, the variances kept at or above the floor.
+MStepResult given_start(const EmStartingPoint& start, Eigen::Index columns, double floor) {
+  MStepResult init;
+  init.theta = Eigen::VectorXd::Zero(columns);
+  init.theta.head(start.theta.size()) = start.theta;
+  init.mixture = start.mixture;
+  init.mixture.variance = init.mixture.variance.cwiseMax(floor);
+  return init;
+}
+
 void require_modes_populated(const Eigen::MatrixXd& r, double min_weight, int iteration) {
   const double k = static_cast<double>(r.rows());
   for (Eigen::Index i = 0; i < r.cols(); ++i) {
@@ -149,6 +159,16 @@ void validate_arguments(const Eigen::Ref<const Eigen::MatrixXd>& h,
   }
   if (!(o.min_mode_weight >= 0.0 && o.min_mode_weight < 1.0 / o.modes)) {
     throw InvalidInput("min_mode_weight must be in [0, 1/M)");
+  }
+  if (o.start) {
+    if (o.start->theta.size() > h.cols()) {
+      throw InvalidInput("EM training: the starting θ has more entries than H has columns");
+    }
+    if (o.start->mixture.modes() != o.modes) {
+      throw InvalidInput("EM training: the starting mixture's mode count differs from `modes`");
+    }
+    o.start->mixture.validate();
+    require_finite(o.start->theta, "the starting θ");
   }
   const Eigen::Index parameters = h.cols() + 3 * static_cast<Eigen::Index>(o.modes) - 1;
   if (y.size() <= parameters) {
@@ -203,7 +223,8 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
   const double floor = std::max(options.variance_floor, kRelativeVarianceFloor * variance);
 
   Eigen::MatrixXd scratch;
-  MStepResult current = options.initialization == EmInitialization::Paper
+  MStepResult current = options.start                ? given_start(*options.start, h.cols(), floor)
+                        : options.initialization == EmInitialization::Paper
                             ? paper_initialization(h.cols())
                             : quantile_initialization(h, y, options.modes, floor, scratch);
 

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "core/gaussian_mixture.hpp"
@@ -29,6 +30,14 @@ enum class EmInitialization {
   Quantiles,
   // Eq. 20: θ = 0, μ = (0.1, −0.1), σ² = (0.1, 0.1), π = 0.5, in the data's units. M = 2 only.
   Paper,
+};
+
+// A starting point for EM: θ and the modes of a previous fit (a warm start). θ may have fewer
+// entries than H has columns: the missing ones start at zero, so that a fit of a nested basis
+// (Legendre order N + 1 after N) starts where the smaller one ended.
+struct EmStartingPoint {
+  Eigen::VectorXd theta;
+  MixtureParameters mixture;
 };
 
 struct EmTrainOptions {
@@ -47,6 +56,8 @@ struct EmTrainOptions {
   // show M modes.
   double min_mode_weight = 1e-3;
   bool record_trace = true;
+  // When set, EM starts here instead of at `initialization`; its mixture must have `modes` modes.
+  std::optional<EmStartingPoint> start;
 };
 
 // One row of the convergence record (the paper's Fig. 13).

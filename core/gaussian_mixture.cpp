@@ -75,6 +75,21 @@ double mixture_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
   return log_likelihood;
 }
 
+Eigen::VectorXd mixture_log_densities(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                      const MixtureParameters& mixture) {
+  Eigen::MatrixXd joint;
+  log_joint(residual, mixture, joint);
+  const Eigen::VectorXd row_max = joint.rowwise().maxCoeff();
+  joint.colwise() -= row_max;
+  Eigen::VectorXd out = row_max.array() + joint.array().exp().rowwise().sum().log();
+  if (!out.allFinite()) {
+    throw NumericalError(
+        "mixture log-density is not finite: a residual is not finite or every mode has zero "
+        "weight");
+  }
+  return out;
+}
+
 double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,
                               const MixtureParameters& mixture) {
   Eigen::MatrixXd scratch;

@@ -28,6 +28,10 @@ struct MixtureParameters {
 double mixture_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
                       const MixtureParameters& mixture, Eigen::MatrixXd& responsibilities);
 
+// log δ_k = log Σ_i π_i N(e_k − μ_i, σ_i²) of each residual (K), by log-sum-exp.
+Eigen::VectorXd mixture_log_densities(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                      const MixtureParameters& mixture);
+
 // Σ_k log Σ_i π_i N(e_k − μ_i, σ_i²), without keeping the responsibilities.
 double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,
                               const MixtureParameters& mixture);

@@ -202,5 +202,53 @@ TEST_F(EmTrainBadInput, OptionsAreChecked) {
   EXPECT_THROW(train_em(h, y, options), InvalidInput);
 }
 
+// A warm start at a converged fit stays there: the next EM steps barely move it.
+TEST(EmTrain, AWarmStartAtTheMaximumStaysThere) {
+  const auto truth = testing::mixture({-2.0, 3.0}, {1.0, 1.5}, {0.6, 0.4});
+  const Trained cold = train_on(truth, 21, 2, 20000);
+  EmTrainOptions options;
+  options.start = EmStartingPoint{cold.fit.theta, cold.fit.mixture};
+  const Trained warm = train_on(truth, 21, 2, 20000, options);
+  EXPECT_TRUE(warm.fit.converged);
+  EXPECT_LE(warm.fit.iterations, 3);
+  EXPECT_LT(cold.fit.iterations, 1000);
+  EXPECT_NEAR(warm.fit.log_likelihood, cold.fit.log_likelihood, 1e-6 * 20000);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(warm.fit.mixture.mean[i], cold.fit.mixture.mean[i], 1e-3);
+}
+
+// A start from a smaller nested basis: θ is padded with zeros, and the fit reaches the same
+// maximum as a cold start of the larger basis.
+TEST(EmTrain, AStartFromANestedBasisReachesTheSameMaximum) {
+  const auto truth = testing::mixture({-2.0, 3.0}, {1.0, 1.5}, {0.6, 0.4});
+  const auto data = testing::draw_measurements(testing::cycling_temperature(20000), kDistance,
+                                               cubic_bias, truth, 23);
+  const Eigen::VectorXd y = data.range.array() - kDistance;
+  const Basis two = Basis::polynomial(2, data.junction_temperature_c);
+  const Basis three = Basis::polynomial(3, data.junction_temperature_c);
+  const EmTrainResult small = train_em(two.design_matrix(data.junction_temperature_c), y);
+  EmTrainOptions options;
+  options.start = EmStartingPoint{small.theta, small.mixture};
+  const Eigen::MatrixXd h3 = three.design_matrix(data.junction_temperature_c);
+  const EmTrainResult warm = train_em(h3, y, options);
+  const EmTrainResult cold = train_em(h3, y);
+  EXPECT_NEAR(warm.log_likelihood, cold.log_likelihood, 1e-6 * 20000);
+  for (Eigen::Index j = 0; j < 3; ++j) EXPECT_NEAR(warm.theta[j], cold.theta[j], 1e-3);
+}
+
+TEST(EmTrain, AStartThatDoesNotFitIsRefused) {
+  const auto truth = testing::mixture({-2.0, 3.0}, {1.0, 1.5}, {0.6, 0.4});
+  const auto data = testing::draw_measurements(testing::cycling_temperature(2000), kDistance,
+                                               cubic_bias, truth, 25);
+  const Eigen::VectorXd y = data.range.array() - kDistance;
+  const Eigen::MatrixXd h = Basis::polynomial(2, data.junction_temperature_c)
+                                .design_matrix(data.junction_temperature_c);
+  EmTrainOptions options;
+  options.start = EmStartingPoint{Eigen::VectorXd::Zero(3), truth};  // θ longer than H is wide
+  EXPECT_THROW(train_em(h, y, options), InvalidInput);
+  options.start = EmStartingPoint{Eigen::VectorXd::Zero(2), truth};
+  options.modes = 3;  // the mixture has two
+  EXPECT_THROW(train_em(h, y, options), InvalidInput);
+}
+
 }  // namespace
 }  // namespace tofcomp::core

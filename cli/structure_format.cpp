@@ -1,0 +1,130 @@
+#include "cli/structure_format.hpp"
+
+#include <fmt/format.h>
+
+namespace tofcomp::cli {
+namespace {
+
+constexpr std::array<core::KalmanNoiseLevel, core::kKalmanNoiseLevelCount> kLevels = {
+    core::KalmanNoiseLevel::kCaseProcess, core::KalmanNoiseLevel::kJunctionProcess,
+    core::KalmanNoiseLevel::kSensor};
+constexpr std::array<const char*, core::kKalmanNoiseLevelCount> kLevelKeys = {
+    "case_process_psd_k2_per_s", "junction_process_psd_k2_per_s", "measurement_variance_k2"};
+
+const char* mark(int index, const core::StructureChoice& choice) {
+  if (index == choice.chosen) return "chosen";
+  if (index == choice.best_by_held_out) return "best held-out";
+  return "";
+}
+
+}  // namespace
+
+nlohmann::json to_json(const core::KalmanNoiseFit& fit) {
+  nlohmann::json levels = nlohmann::json::object();
+  for (std::size_t i = 0; i < kLevels.size(); ++i) {
+    const core::KalmanNoiseLevelFit& l = fit.levels[i];
+    levels[kLevelKeys[i]] = {{"value", l.value},
+                             {"held", l.held},
+                             {"profile_drop_down", l.profile_drop_down},
+                             {"profile_drop_up", l.profile_drop_up}};
+  }
+  return {{"method", "innovations' likelihood"},
+          {"levels", levels},
+          {"log_likelihood", fit.log_likelihood},
+          {"start_log_likelihood", fit.start_log_likelihood},
+          {"filter_passes", fit.evaluations}};
+}
+
+nlohmann::json to_json(const core::StructureChoice& choice) {
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const core::CandidateEvidence& e : choice.candidates) {
+    nlohmann::json c = {{"name", e.name},     {"family", e.family},
+                        {"order", e.order},   {"modes", e.modes},
+                        {"parameters", e.parameters}, {"ok", e.ok}};
+    if (e.ok) {
+      c["held_out_log_likelihood_per_range"] = e.held_out_log_likelihood;
+      c["log_likelihood"] = e.log_likelihood;
+      c["glr"] = e.glr;
+      c["bic"] = e.bic;
+    } else {
+      c["error"] = e.error;
+    }
+    candidates.push_back(c);
+  }
+  auto name_of = [&](int index) -> nlohmann::json {
+    if (index < 0) return nullptr;
+    return choice.candidates[static_cast<std::size_t>(index)].name;
+  };
+  return {{"method", "one standard error rule on the held-out log-likelihood, interleaved folds"},
+          {"chosen", name_of(choice.chosen)},
+          {"basis", choice.basis.describe()},
+          {"modes", choice.modes},
+          {"best_by_held_out", name_of(choice.best_by_held_out)},
+          {"best_by_glr", name_of(choice.best_by_glr)},
+          {"best_by_bic", name_of(choice.best_by_bic)},
+          {"shortfall_per_range", choice.shortfall_per_range},
+          {"shortfall_standard_error", choice.shortfall_standard_error},
+          {"held_out_ranges", choice.held_out_ranges},
+          {"null_log_likelihood", choice.null_log_likelihood},
+          {"candidates", candidates}};
+}
+
+nlohmann::json choices_json(const calibration::Training& training) {
+  return {{"kalman_noise",
+           training.kalman_noise ? to_json(*training.kalman_noise) : nlohmann::json(nullptr)},
+          {"structure",
+           training.structure ? to_json(*training.structure) : nlohmann::json(nullptr)}};
+}
+
+std::string kalman_noise_text(const core::KalmanNoiseFit& fit) {
+  std::string out = fmt::format(
+      "junction filter noise (§3.3), by the innovations' likelihood (log-likelihood {:.1f}, "
+      "{:+.1f} over the LMS 200 levels):\n",
+      fit.log_likelihood, fit.log_likelihood - fit.start_log_likelihood);
+  for (std::size_t i = 0; i < kLevels.size(); ++i) {
+    const core::KalmanNoiseLevelFit& l = fit.levels[i];
+    out += fmt::format("  {:<28} {:10.3g}  {}  (log-likelihood lost ×0.1: {:.1f}, ×10: {:.1f})\n",
+                       core::kalman_noise_level_name(kLevels[i]), l.value,
+                       l.held ? "held: the log does not determine it" : "fitted", 
+                       l.profile_drop_down, l.profile_drop_up);
+  }
+  return out;
+}
+
+std::string structure_text(const core::StructureChoice& choice) {
+  std::string out =
+      "structure of Eq. 8 (§7): the fewest parameters within one standard error of the best "
+      "log-likelihood of held-out ranges (interleaved folds); Algorithm 2's GLR and BIC beside:\n";
+  out += fmt::format("  {:<40} {:>5} {:>12} {:>12} {:>14}\n", "candidate", "par.", "held-out/rng",
+                     "GLR", "BIC");
+  for (std::size_t i = 0; i < choice.candidates.size(); ++i) {
+    const core::CandidateEvidence& e = choice.candidates[i];
+    if (!e.ok) {
+      out += fmt::format("  {:<40} {:>5} failed: {}\n", e.name, e.parameters, e.error);
+      continue;
+    }
+    out += fmt::format("  {:<40} {:>5} {:12.5f} {:12.1f} {:14.1f} {}\n", e.name, e.parameters,
+                       e.held_out_log_likelihood, e.glr, e.bic,
+                       mark(static_cast<int>(i), choice));
+  }
+  const core::CandidateEvidence& chosen = choice.candidates[static_cast<std::size_t>(choice.chosen)];
+  out += fmt::format(
+      "  chosen: {} ({:.5f} ± {:.5f} per held-out range below the best, on {} held-out ranges); "
+      "GLR would take {}, BIC {}\n",
+      chosen.name, choice.shortfall_per_range, choice.shortfall_standard_error,
+      choice.held_out_ranges,
+      choice.candidates[static_cast<std::size_t>(choice.best_by_glr)].name,
+      choice.candidates[static_cast<std::size_t>(choice.best_by_bic)].name);
+  return out;
+}
+
+std::string choices_text(const calibration::Training& training) {
+  std::string out;
+  out += training.kalman_noise ? kalman_noise_text(*training.kalman_noise)
+                               : "junction filter noise (§3.3): as given (--kalman-noise)\n";
+  out += training.structure ? structure_text(*training.structure)
+                            : "structure of Eq. 8: as given (--basis, --modes)\n";
+  return out;
+}
+
+}  // namespace tofcomp::cli

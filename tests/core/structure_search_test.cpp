@@ -1,0 +1,111 @@
+#include "core/structure_search.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/error.hpp"
+#include "tests/support/synthetic_measurements.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+constexpr double kDistance = 3000.0;  // mm
+
+// A bias with a bend a quadratic cannot follow: a cubic over the 24.8-28.8 °C junction range.
+double cubic_bias(double t) {
+  const double x = t - 26.8;
+  return -4.0 * x + 0.8 * x * x + 0.35 * x * x * x;
+}
+
+double linear_bias(double t) { return 1.5 * (t - 26.8); }
+
+StructureChoice search_on(const testing::SyntheticMeasurements& data,
+                          StructureSearchOptions options = {}) {
+  options.max_fourier_order = 0;  // the polynomial family alone unless a test asks for both
+  return search_structure(data.junction_temperature_c, data.range.array() - kDistance, options);
+}
+
+// Three well separated modes and a cubic bias: the search finds three modes and an order that
+// follows the cubic, and the chosen model's mode curves H(t)θ + μ_i match the truth.
+TEST(StructureSearch, FindsThreeModesAndACubicBias) {
+  const auto truth = testing::mixture({-4.0, 0.0, 4.5}, {0.8, 0.7, 0.9}, {0.3, 0.3, 0.4});
+  const auto data = testing::draw_measurements(testing::cycling_temperature(30000), kDistance,
+                                               cubic_bias, truth, 3);
+  const StructureChoice choice = search_on(data);
+  EXPECT_EQ(choice.modes, 3);
+  ASSERT_EQ(choice.basis.terms().size(), 1u);
+  EXPECT_GE(choice.basis.terms()[0].order, 3);
+  EXPECT_LE(choice.basis.terms()[0].order, 6);
+  const Eigen::VectorXd grid = Eigen::VectorXd::LinSpaced(9, 25.0, 28.6);
+  const Eigen::VectorXd bias = choice.basis.design_matrix(grid) * choice.fit.theta;
+  for (Eigen::Index g = 0; g < grid.size(); ++g) {
+    EXPECT_NEAR(bias[g] + choice.fit.mixture.mean[1], cubic_bias(grid[g]) + truth.mean[1], 0.1)
+        << grid[g] << " °C";
+  }
+  // The evidence is there for every candidate visited, the chosen one among them.
+  EXPECT_TRUE(choice.candidates[static_cast<std::size_t>(choice.chosen)].ok);
+  EXPECT_GE(choice.best_by_glr, 0);
+  EXPECT_GE(choice.best_by_bic, 0);
+}
+
+// One Gaussian around a straight line: the one-standard-error rule keeps the model small, where
+// GLR (Algorithm 2) takes the largest candidate it saw.
+TEST(StructureSearch, KeepsTheSmallestModelThatPredictsAsWell) {
+  const auto truth = testing::mixture({0.0}, {2.0}, {1.0});
+  const auto data = testing::draw_measurements(testing::cycling_temperature(20000), kDistance,
+                                               linear_bias, truth, 5);
+  const StructureChoice choice = search_on(data);
+  EXPECT_EQ(choice.modes, 1);
+  EXPECT_LE(choice.basis.terms()[0].order, 2);
+  const CandidateEvidence& by_glr = choice.candidates[static_cast<std::size_t>(choice.best_by_glr)];
+  const CandidateEvidence& chosen = choice.candidates[static_cast<std::size_t>(choice.chosen)];
+  EXPECT_GT(by_glr.parameters, chosen.parameters);
+}
+
+// A basis the user fixed is kept; only the number of modes is searched at it.
+TEST(StructureSearch, SearchesOnlyTheModesAtAGivenBasis) {
+  const auto truth = testing::mixture({-2.5, 2.5}, {0.8, 0.8}, {0.5, 0.5});
+  const auto data = testing::draw_measurements(testing::cycling_temperature(10000), kDistance,
+                                               cubic_bias, truth, 9);
+  StructureSearchOptions options;
+  options.basis = Basis::polynomial(3, data.junction_temperature_c);
+  const StructureChoice choice = search_on(data, options);
+  EXPECT_EQ(choice.modes, 2);
+  EXPECT_EQ(choice.basis.describe(), options.basis->describe());
+  for (const CandidateEvidence& e : choice.candidates) EXPECT_EQ(e.family, "given");
+  EXPECT_EQ(static_cast<int>(choice.candidates.size()), options.max_modes);
+}
+
+// The Fourier family is searched too, and a bias that is one period of a sine over the range
+// (which Eq. 11 at f0 = 1 / (2 × span) holds in two terms) is followed by whichever family wins.
+TEST(StructureSearch, SearchesTheFourierFamilyBeside) {
+  const auto truth = testing::mixture({-2.0, 2.0}, {0.7, 0.7}, {0.5, 0.5});
+  const auto data = testing::draw_measurements(
+      testing::cycling_temperature(20000), kDistance,
+      [](double t) { return 3.0 * std::sin(2.0 * 3.14159265358979 * (t - 24.8) / 4.0); }, truth,
+      13);
+  StructureSearchOptions options;
+  const StructureChoice choice =
+      search_structure(data.junction_temperature_c, data.range.array() - kDistance, options);
+  bool fourier_seen = false;
+  for (const CandidateEvidence& e : choice.candidates) fourier_seen |= e.family == "fourier";
+  EXPECT_TRUE(fourier_seen);
+  // The fitted bias follows the true one up to a constant (which the mode offsets carry).
+  const Eigen::VectorXd fitted = choice.basis.design_matrix(data.junction_temperature_c) *
+                                 choice.fit.theta;
+  const Eigen::VectorXd gap = fitted - data.true_bias;
+  const double spread = std::sqrt((gap.array() - gap.mean()).square().mean());
+  EXPECT_LT(spread, 0.05);
+}
+
+TEST(StructureSearch, RefusesTooFewRangesOrFolds) {
+  const auto truth = testing::mixture({0.0}, {1.0}, {1.0});
+  const auto data = testing::draw_measurements(testing::cycling_temperature(400), kDistance,
+                                               linear_bias, truth, 1);
+  EXPECT_THROW(search_on(data), InvalidInput);
+  StructureSearchOptions one_fold;
+  one_fold.folds = 1;
+  EXPECT_THROW(search_on(data, one_fold), InvalidInput);
+}
+
+}  // namespace
+}  // namespace tofcomp::core
