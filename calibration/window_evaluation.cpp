@@ -3,6 +3,43 @@
 #include "core/cramer_rao.hpp"
 
 namespace tofcomp::calibration {
+namespace {
+
+// Whether window i (starting at start, of length window) has a range whose bias is extrapolated:
+// a running count over the ranges' extrapolation flags.
+std::vector<bool> windows_beyond_trained(const core::Calibration& calibration,
+                                         const Compensation& compensation,
+                                         const std::vector<Eigen::Index>& starts,
+                                         Eigen::Index window) {
+  const Eigen::VectorXd& junction = compensation.junction.junction_c;
+  std::vector<Eigen::Index> extrapolated_before(static_cast<std::size_t>(junction.size()) + 1, 0);
+  for (Eigen::Index k = 0; k < junction.size(); ++k) {
+    extrapolated_before[static_cast<std::size_t>(k) + 1] =
+        extrapolated_before[static_cast<std::size_t>(k)] +
+        (calibration.model.extrapolates(junction[k]) ? 1 : 0);
+  }
+  std::vector<bool> out;
+  out.reserve(starts.size());
+  for (const Eigen::Index start : starts) {
+    const auto begin = static_cast<std::size_t>(start);
+    out.push_back(extrapolated_before[begin + static_cast<std::size_t>(window)] >
+                  extrapolated_before[begin]);
+  }
+  return out;
+}
+
+// The error moments of the windows whose flag equals `beyond`.
+core::ErrorMoments moments_where(const Eigen::VectorXd& estimates, const Eigen::VectorXd& truth,
+                                 const std::vector<bool>& flags, bool beyond) {
+  std::vector<Eigen::Index> rows;
+  for (std::size_t i = 0; i < flags.size(); ++i) {
+    if (flags[i] == beyond) rows.push_back(static_cast<Eigen::Index>(i));
+  }
+  if (rows.empty()) return {};
+  return core::error_moments(estimates(rows), truth(rows));
+}
+
+}  // namespace
 
 std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
                                                const core::Calibration& calibration,
@@ -40,6 +77,10 @@ std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
       e.em = core::error_moments(e.estimates.em_distance, e.truth_mm);
       e.raw = core::error_moments(e.estimates.raw_mean, e.truth_mm);
       e.bias_corrected = core::error_moments(e.estimates.bias_corrected_mean, e.truth_mm);
+      const std::vector<bool> beyond =
+          windows_beyond_trained(calibration, compensation, e.estimates.start, e.window);
+      e.em_inside_trained = moments_where(e.estimates.em_distance, e.truth_mm, beyond, false);
+      e.em_beyond_trained = moments_where(e.estimates.em_distance, e.truth_mm, beyond, true);
     }
     out.push_back(std::move(e));
   }

@@ -27,6 +27,12 @@ struct WindowEvaluation {
   core::ErrorMoments em;              // d̂
   core::ErrorMoments raw;             // ȳ
   core::ErrorMoments bias_corrected;  // mean of y − Hθ̂
+  // d̂ apart on the windows whose every range lies inside the junction temperatures the
+  // calibration was trained on, and on those with a range beyond them (where the bias is
+  // extrapolated along its tangent, core/measurement_model.hpp). Without a stored trained range
+  // every window counts as inside.
+  core::ErrorMoments em_inside_trained;
+  core::ErrorMoments em_beyond_trained;
 };
 
 // The three estimators on every window of each length (d̂ under the calibration's noise, extended

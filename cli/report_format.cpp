@@ -131,6 +131,8 @@ nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluat
       j["bias_corrected_mean"] = to_json(e.bias_corrected);
       j["mae_improvement"] = e.raw.mean_absolute_error / e.em.mean_absolute_error;
       j["mae_over_cramer_rao"] = e.em.mean_absolute_error / e.cramer_rao_mae_mm;
+      j["em_inside_trained"] = to_json(e.em_inside_trained);
+      j["em_beyond_trained"] = to_json(e.em_beyond_trained);
     } else {
       j["em_distance_mm"] =
           std::vector<double>(e.estimates.em_distance.data(),
@@ -198,6 +200,15 @@ std::string window_table_text(const std::vector<calibration::WindowEvaluation>& 
     out +=
         fmt::format("{:>7} {:>8}  Cramér–Rao bound {:.3f} mm: MAE EM / bound = {:.2f}\n", e.window,
                     "", e.cramer_rao_mae_mm, e.em.mean_absolute_error / e.cramer_rao_mae_mm);
+    const std::pair<const char*, const core::ErrorMoments*> apart[] = {
+        {"inside the trained junction range", &e.em_inside_trained},
+        {"beyond it (bias extrapolated)", &e.em_beyond_trained}};
+    for (const auto& [where, m] : apart) {
+      if (m->count == 0) continue;
+      out += fmt::format("{:>7} {:>8}  EM d hat {}: MAE {:.3f} mm = {:.2f} × bound\n", e.window,
+                         m->count, where, m->mean_absolute_error,
+                         m->mean_absolute_error / e.cramer_rao_mae_mm);
+    }
   }
   return out;
 }
