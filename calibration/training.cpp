@@ -13,7 +13,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   t.thermal = fit_thermal(data, held_out, settings.thermal);
   const core::ThermalParameters& thermal = t.thermal.identified();
   t.junction =
-      junction_at_ranges(data, thermal, settings.noise, settings.thermal.ambient_fallback_c);
+      junction_at_ranges(data, thermal, settings.kalman_noise, settings.thermal.ambient_fallback_c);
 
   const core::Basis basis = parse_basis(settings.basis, t.junction.junction_c);
   const Eigen::MatrixXd h = basis.design_matrix(t.junction.junction_c);
@@ -21,11 +21,11 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
 
   core::Calibration& c = t.calibration;
   c.thermal = thermal;
-  c.noise = settings.noise;
+  c.kalman_noise = settings.kalman_noise;
   c.ambient_c = settings.thermal.ambient_fallback_c;
   c.model.basis = basis;
   c.model.theta = t.em.theta;
-  c.model.noise = t.em.mixture;
+  c.model.mixture = t.em.mixture;
   c.model.trained_junction_c =
       core::TemperatureRange{t.junction.junction_c.minCoeff(), t.junction.junction_c.maxCoeff()};
   c.provenance.data_set = data.source;

@@ -14,7 +14,7 @@ namespace tofcomp::calibration {
 
 struct TrainSettings {
   ThermalFitSettings thermal;
-  core::ThermalNoise noise;
+  core::ThermalNoise kalman_noise;
   std::string basis = "polynomial:4";
   core::EmTrainOptions em;
 };

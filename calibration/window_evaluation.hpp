@@ -29,7 +29,7 @@ struct WindowEvaluation {
   core::ErrorMoments bias_corrected;  // mean of y − Hθ̂
 };
 
-// The three estimators on every window of each length (d̂ under the calibration's noise, extended
+// The three estimators on every window of each length (d̂ under the calibration's mixture, extended
 // or not) (stride apart), and their error moments
 // where the data carry the true distance (Fig. 16-19). `progress` gets the fraction done.
 std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,

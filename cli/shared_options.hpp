@@ -25,9 +25,9 @@ struct ThermalOptions {
   const CLI::Option* free_option = nullptr;  // given: the paper's prediction-error method
   double prior_factor = 2.0;                 // one σ of the datasheet prior, as a factor
   double ambient_c = 22.0;
-  std::vector<double> kalman_noise;  // q_case, q_junction, r; empty: core::ThermalNoise's
+  std::vector<double> kalman_noise_levels;  // q_case, q_junction, r; empty: core::ThermalNoise's
   calibration::ThermalFitSettings settings() const;
-  core::ThermalNoise noise() const;
+  core::ThermalNoise kalman_noise() const;
 };
 std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd);
 
