@@ -1,5 +1,5 @@
 // A calibration applied to measured data offline: the bias H(t^j)θ̂ of Eq. 8 at each range from
-// the smoothed junction temperature, the noise the ranges are compensated under, and the
+// the smoothed junction temperature, the mixture the ranges are compensated under, and the
 // held-out likelihood of the ranges.
 #pragma once
 

@@ -15,7 +15,7 @@ core::Diagnosis diagnose(const MeasuredData& data, const core::Calibration& cali
       data.range_time_s, compensation.junction.junction_c, core::kHeatingRateHalfWindowS);
   input.time_since_power_on_s = data.time_since_power_on();
   input.residual = data.range_mm - data.true_range_mm - compensation.bias_mm;
-  return core::diagnose_residuals(input, core::compensation_noise(calibration).modes);
+  return core::diagnose_residuals(input, core::compensation_mixture(calibration).modes);
 }
 
 }  // namespace tofcomp::calibration

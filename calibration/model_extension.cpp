@@ -68,9 +68,9 @@ core::MixtureParameters trimmed_quantile_modes(const Eigen::VectorXd& residual, 
 }
 
 // The start of the extended EM for the named effect, from the paper's fit.
-core::ExtendedMixture start_noise(core::EffectKind effect, const core::MixtureParameters& base,
-                                  const Eigen::VectorXd& residual,
-                                  const Eigen::VectorXd& junction_c) {
+core::ExtendedMixture start_mixture(core::EffectKind effect, const core::MixtureParameters& base,
+                                    const Eigen::VectorXd& residual,
+                                    const Eigen::VectorXd& junction_c) {
   core::ExtendedMixture m = core::without_extensions(base);
   const int modes = base.modes();
   switch (effect) {
@@ -113,17 +113,17 @@ std::string describe(const core::ModelExtension& e, int base_modes) {
              "independent draws";
     case core::EffectKind::TemperatureDependentWeights:
       return fmt::format("Eq. 8 with the mode weights pi_i per junction-temperature bin ({} bins)",
-                         e.noise.bins());
+                         e.extended_mixture.bins());
     case core::EffectKind::TemperatureDependentSpread:
       return fmt::format(
           "Eq. 8 with the mode variances sigma_i^2 per junction-temperature bin ({} "
           "bins)",
-          e.noise.bins());
+          e.extended_mixture.bins());
     case core::EffectKind::Outliers:
       return "Eq. 8 plus a uniform outlier component over the residuals' span";
     case core::EffectKind::ExtraMode:
-      return fmt::format("Eq. 8 with {} lasing modes instead of {}", e.noise.modes.modes(),
-                         base_modes);
+      return fmt::format("Eq. 8 with {} lasing modes instead of {}",
+                         e.extended_mixture.modes.modes(), base_modes);
     case core::EffectKind::SerialDependence:
       break;
   }
@@ -132,7 +132,7 @@ std::string describe(const core::ModelExtension& e, int base_modes) {
 
 std::vector<std::pair<std::string, double>> parameters_of(const core::ModelExtension& e) {
   std::vector<std::pair<std::string, double>> out;
-  const core::ExtendedMixture& n = e.noise;
+  const core::ExtendedMixture& n = e.extended_mixture;
   if (e.covariate != core::Covariate::None) {
     out.emplace_back(std::string("gamma_mm_per_") + core::covariate_name(e.covariate),
                      e.covariate_mm);
@@ -208,14 +208,14 @@ Fit fit_extension(core::EffectKind effect, const MeasuredData& train, const Trai
   fit.extension.covariate = covariate_of(effect);
   if (effect == core::EffectKind::ExtraMode) {
     core::EmTrainOptions options = settings.em;
-    options.modes = c.model.noise.modes() + 1;
+    options.modes = c.model.mixture.modes() + 1;
     options.record_trace = false;
     const core::EmTrainResult em = core::train_em(h, y, options);
     fit.theta = em.theta;
-    fit.extension.noise = core::without_extensions(em.mixture);
+    fit.extension.extended_mixture = core::without_extensions(em.mixture);
   } else {
     const core::ExtendedMixture start =
-        start_noise(effect, c.model.noise, y - c.model.bias(junction), junction);
+        start_mixture(effect, c.model.mixture, y - c.model.bias(junction), junction);
     const Eigen::VectorXi bin = start.bin_of(junction);
     const bool has_covariate = fit.extension.covariate != core::Covariate::None;
     if (has_covariate) {
@@ -249,13 +249,13 @@ Fit fit_extension(core::EffectKind effect, const MeasuredData& train, const Trai
       consider(0.0);
     }
     fit.theta = best->theta;
-    fit.extension.noise = best->model;
+    fit.extension.extended_mixture = best->model;
     if (has_covariate) {
       fit.extension.covariate_mm = fit.theta[fit.theta.size() - 1];
       fit.theta.conservativeResize(fit.theta.size() - 1);
     }
   }
-  fit.model = describe(fit.extension, c.model.noise.modes());
+  fit.model = describe(fit.extension, c.model.mixture.modes());
   fit.parameters = parameters_of(fit.extension);
   return fit;
 }
@@ -295,7 +295,7 @@ ExtensionReport judge(core::EffectKind named, const Fit& fit, const Training& ba
   r.parameters = fit.parameters;
   r.calibration = base.calibration;
   r.calibration.model.theta = fit.theta;
-  r.calibration.model.noise = fit.extension.noise.modes;
+  r.calibration.model.mixture = fit.extension.extended_mixture.modes;
   r.calibration.extension = fit.extension;
   r.calibration.provenance.notes += std::string("; extended for ") + core::effect_name(r.effect);
 

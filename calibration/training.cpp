@@ -46,12 +46,12 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
 
   report(progress, kThermalShare, "Kalman noise levels");
   core::ThermalNoise noise;
-  if (settings.noise) {
-    noise = *settings.noise;
+  if (settings.kalman_noise) {
+    noise = *settings.kalman_noise;
   } else {
-    t.kalman_noise = core::fit_kalman_noise(
+    t.kalman_noise_fit = core::fit_kalman_noise(
         case_log(data, settings.thermal.ambient_fallback_c), thermal, core::ThermalNoise{});
-    noise = t.kalman_noise->noise;
+    noise = t.kalman_noise_fit->noise;
   }
   t.junction = junction_at_ranges(data, thermal, noise, settings.thermal.ambient_fallback_c);
   const Eigen::VectorXd y_minus_d = data.range_mm - data.true_range_mm;
@@ -78,11 +78,11 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
 
   core::Calibration& c = t.calibration;
   c.thermal = thermal;
-  c.noise = noise;
+  c.kalman_noise = noise;
   c.ambient_c = settings.thermal.ambient_fallback_c;
   c.model.basis = basis;
   c.model.theta = t.em.theta;
-  c.model.noise = t.em.mixture;
+  c.model.mixture = t.em.mixture;
   c.model.trained_junction_c =
       core::TemperatureRange{t.junction.junction_c.minCoeff(), t.junction.junction_c.maxCoeff()};
   c.provenance.data_set = data.source;

@@ -22,7 +22,7 @@ struct TrainSettings {
   // The junction filter's noise levels (§3.3). Absent: chosen from the case log by the
   // innovations' likelihood (core/kalman_noise_fit.hpp), starting from core::ThermalNoise's
   // LMS 200 levels, which stay for any level the log does not determine.
-  std::optional<core::ThermalNoise> noise;
+  std::optional<core::ThermalNoise> kalman_noise;
   // H(.) as named by calibration/basis_spec.hpp, and the number of lasing modes. Absent: chosen
   // from the data by held-out likelihood (core/structure_search.hpp).
   std::optional<std::string> basis;
@@ -34,7 +34,7 @@ struct TrainSettings {
 struct Training {
   core::Calibration calibration;
   ThermalFit thermal;
-  std::optional<core::KalmanNoiseFit> kalman_noise;  // when the levels were chosen from the log
+  std::optional<core::KalmanNoiseFit> kalman_noise_fit;  // when the levels were chosen from the log
   SmoothedJunction junction;
   std::optional<core::StructureChoice> structure;  // when basis or modes were chosen
   core::EmTrainResult em;

@@ -51,20 +51,21 @@ std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
   for (const bool known : data.has_true_range) has_truth = has_truth && known;
   // One range's information about d: the same for every window length.
   const double range_information =
-      core::range_fisher_information(calibration.model.noise, kRangeResolutionMm);
+      core::range_fisher_information(calibration.model.mixture, kRangeResolutionMm);
   std::vector<WindowEvaluation> out;
   for (std::size_t w = 0; w < windows.size(); ++w) {
     if (progress) progress(static_cast<double>(w) / static_cast<double>(windows.size()));
     WindowEvaluation e;
     e.window = windows[w];
     e.cramer_rao_mae_mm = core::cramer_rao_mae_mm(range_information, e.window);
-    e.estimates = calibration.extension
-                      ? core::estimate_windows(
-                            data.range_mm, compensation.bias_mm,
-                            calibration.extension->noise.bin_of(compensation.junction.junction_c),
-                            calibration.extension->noise, e.window, stride)
-                      : core::estimate_windows(data.range_mm, compensation.bias_mm,
-                                               calibration.model.noise, e.window, stride);
+    e.estimates =
+        calibration.extension
+            ? core::estimate_windows(
+                  data.range_mm, compensation.bias_mm,
+                  calibration.extension->extended_mixture.bin_of(compensation.junction.junction_c),
+                  calibration.extension->extended_mixture, e.window, stride)
+            : core::estimate_windows(data.range_mm, compensation.bias_mm, calibration.model.mixture,
+                                     e.window, stride);
     e.has_truth = has_truth;
     if (has_truth) {
       const auto count = static_cast<Eigen::Index>(e.estimates.start.size());

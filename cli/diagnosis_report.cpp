@@ -104,7 +104,7 @@ void write_diagnosis_report(const std::string& directory, const calibration::Mea
       data_dir, residuals, report.glr_orders, settings.em,
       [&](double f) { progress.update(0.4 + 0.45 * f, "Algorithm 2 over the candidate bases"); });
   const nlohmann::json trace = write_em_test_trace(
-      data_dir, test, compensation, t.calibration.model.noise, report.convergence_samples);
+      data_dir, test, compensation, t.calibration.model.mixture, report.convergence_samples);
   progress.update(0.87, "timing EM testing");
   const nlohmann::json cost =
       write_em_test_cost(data_dir, residuals, test, compensation, report.cost_fourier_orders,

@@ -13,10 +13,10 @@ namespace {
 
 std::string samples_csv(const calibration::MeasuredData& test, const core::Calibration& calibration,
                         const calibration::Compensation& compensation) {
-  const int modes = calibration.model.noise.modes();
+  const int modes = calibration.model.mixture.modes();
   // Mode posteriors at the EM estimate of the whole test record (Eq. 22).
   const core::EmTestResult fit =
-      core::test_em(test.range_mm, compensation.bias_mm, calibration.model.noise);
+      core::test_em(test.range_mm, compensation.bias_mm, calibration.model.mixture);
   const bool has_truth = std::all_of(test.has_true_range.begin(), test.has_true_range.end(),
                                      [](bool known) { return known; });
   const Eigen::VectorXd time_since_power_on_s = test.time_since_power_on();
@@ -31,7 +31,7 @@ std::string samples_csv(const calibration::MeasuredData& test, const core::Calib
                     test.range_mm[k], compensation.junction.junction_c[k], compensation.bias_mm[k]);
     for (int i = 0; i < modes; ++i) out += fmt::format(",{}", fit.responsibilities(k, i));
     out += fmt::format(
-        ",{}", test.range_mm[k] - compensation.bias_mm[k] - calibration.model.noise.mean[best]);
+        ",{}", test.range_mm[k] - compensation.bias_mm[k] - calibration.model.mixture.mean[best]);
     out += has_truth ? fmt::format(",{}\n", test.true_range_mm[k]) : "\n";
   }
   return out;

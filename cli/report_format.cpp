@@ -105,10 +105,10 @@ nlohmann::json to_json(const calibration::ThermalFit& fit) {
 
 nlohmann::json to_json(const core::Calibration& c) {
   nlohmann::json modes = nlohmann::json::array();
-  for (int i = 0; i < c.model.noise.modes(); ++i) {
-    modes.push_back({{"offset_mm", c.model.noise.mean[i]},
-                     {"std_mm", std::sqrt(c.model.noise.variance[i])},
-                     {"weight", c.model.noise.weight[i]}});
+  for (int i = 0; i < c.model.mixture.modes(); ++i) {
+    modes.push_back({{"offset_mm", c.model.mixture.mean[i]},
+                     {"std_mm", std::sqrt(c.model.mixture.variance[i])},
+                     {"weight", c.model.mixture.weight[i]}});
   }
   return {{"thermal", thermal_json(c.thermal)},
           {"basis", c.model.basis.describe()},
@@ -168,10 +168,10 @@ std::string thermal_fit_text(const calibration::ThermalFit& fit) {
 
 std::string calibration_text(const core::Calibration& c) {
   std::string out = "measurement model (Eq. 8): basis " + c.model.basis.describe() + "\n";
-  for (int i = 0; i < c.model.noise.modes(); ++i) {
+  for (int i = 0; i < c.model.mixture.modes(); ++i) {
     out += fmt::format("  mode {}: offset {:+.3f} mm, std {:.3f} mm, weight {:.3f}\n", i + 1,
-                       c.model.noise.mean[i], std::sqrt(c.model.noise.variance[i]),
-                       c.model.noise.weight[i]);
+                       c.model.mixture.mean[i], std::sqrt(c.model.mixture.variance[i]),
+                       c.model.mixture.weight[i]);
   }
   return out;
 }

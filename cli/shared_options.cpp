@@ -66,12 +66,12 @@ calibration::ThermalFitSettings ThermalOptions::settings() const {
   return s;
 }
 
-std::optional<core::ThermalNoise> ThermalOptions::noise() const {
-  if (kalman_noise.empty()) return std::nullopt;
+std::optional<core::ThermalNoise> ThermalOptions::kalman_noise() const {
+  if (kalman_noise_levels.empty()) return std::nullopt;
   core::ThermalNoise n;
-  n.case_process_psd_k2_per_s = kalman_noise[0];
-  n.junction_process_psd_k2_per_s = kalman_noise[1];
-  n.measurement_variance_k2 = kalman_noise[2];
+  n.case_process_psd_k2_per_s = kalman_noise_levels[0];
+  n.junction_process_psd_k2_per_s = kalman_noise_levels[1];
+  n.measurement_variance_k2 = kalman_noise_levels[2];
   n.validate();
   return n;
 }
@@ -96,7 +96,7 @@ std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd) {
           ->capture_default_str();
   cmd.add_option("--ambient", o->ambient_c, "Ambient °C when the data carry no ambient_c")
       ->capture_default_str();
-  cmd.add_option("--kalman-noise", o->kalman_noise,
+  cmd.add_option("--kalman-noise", o->kalman_noise_levels,
                  "Junction-temperature filter noise (§3.3): case and junction process noise "
                  "(K²/s) and sensor variance (K²), e.g. 1e-6,1e-4,3.3e-4; default: chosen "
                  "from the case log by the innovations' likelihood")
@@ -108,7 +108,7 @@ std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd) {
 calibration::TrainSettings TrainingOptions::settings() const {
   calibration::TrainSettings s;
   s.thermal = thermal->settings();
-  s.noise = thermal->noise();
+  s.kalman_noise = thermal->kalman_noise();
   if (basis != kAuto) s.basis = basis;
   if (modes != kAuto) {
     std::size_t used = 0;

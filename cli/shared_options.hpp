@@ -26,10 +26,10 @@ struct ThermalOptions {
   const CLI::Option* free_option = nullptr;  // given: the paper's prediction-error method
   double prior_factor = 2.0;                 // one σ of the datasheet prior, as a factor
   double ambient_c = 22.0;
-  std::vector<double> kalman_noise;  // q_case, q_junction, r; empty: chosen from the case log
+  std::vector<double> kalman_noise_levels;  // q_case, q_junction, r; empty: from the case log
   calibration::ThermalFitSettings settings() const;
   // The levels given with --kalman-noise; absent: training chooses them from the case log.
-  std::optional<core::ThermalNoise> noise() const;
+  std::optional<core::ThermalNoise> kalman_noise() const;
 };
 std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd);
 

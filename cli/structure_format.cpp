@@ -71,7 +71,7 @@ nlohmann::json to_json(const core::StructureChoice& choice) {
 
 nlohmann::json choices_json(const calibration::Training& training) {
   return {{"kalman_noise",
-           training.kalman_noise ? to_json(*training.kalman_noise) : nlohmann::json(nullptr)},
+           training.kalman_noise_fit ? to_json(*training.kalman_noise_fit) : nlohmann::json(nullptr)},
           {"structure",
            training.structure ? to_json(*training.structure) : nlohmann::json(nullptr)}};
 }
@@ -120,7 +120,7 @@ std::string structure_text(const core::StructureChoice& choice) {
 
 std::string choices_text(const calibration::Training& training) {
   std::string out;
-  out += training.kalman_noise ? kalman_noise_text(*training.kalman_noise)
+  out += training.kalman_noise_fit ? kalman_noise_text(*training.kalman_noise_fit)
                                : "junction filter noise (§3.3): as given (--kalman-noise)\n";
   out += training.structure ? structure_text(*training.structure)
                             : "structure of Eq. 8: as given (--basis, --modes)\n";

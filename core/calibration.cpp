@@ -2,9 +2,9 @@
 
 namespace tofcomp::core {
 
-ExtendedMixture compensation_noise(const Calibration& calibration) {
-  return calibration.extension ? calibration.extension->noise
-                               : without_extensions(calibration.model.noise);
+ExtendedMixture compensation_mixture(const Calibration& calibration) {
+  return calibration.extension ? calibration.extension->extended_mixture
+                               : without_extensions(calibration.model.mixture);
 }
 
 }  // namespace tofcomp::core

@@ -26,18 +26,18 @@ struct Provenance {
 
 struct Calibration {
   ThermalParameters thermal{};
-  ThermalNoise noise;       // of the junction-temperature Kalman filter (§3.3)
-  double ambient_c = 22.0;  // used when the data carry no ambient column
+  ThermalNoise kalman_noise;  // the noise levels of the junction-temperature Kalman filter (§3.3)
+  double ambient_c = 22.0;    // used when the data carry no ambient column
   MeasurementModel model;
-  // What the residual diagnosis added to Eq. 8 (`tofcomp diagnose`); its noise replaces
-  // model.noise wherever ranges are compensated. Absent: the paper's model.
+  // What the residual diagnosis added to Eq. 8 (`tofcomp diagnose`); its extended mixture replaces
+  // model.mixture wherever ranges are compensated. Absent: the paper's model.
   std::optional<ModelExtension> extension;
   Provenance provenance;
 };
 
-// The noise of Eq. 8 that ranges are compensated under: the extension's when the calibration
+// The mixture of Eq. 8 that ranges are compensated under: the extension's when the calibration
 // has one, else the paper's mixture (without extensions). The one definition for the offline
 // pipeline (calibration/) and the daemon's path (realtime/).
-ExtendedMixture compensation_noise(const Calibration& calibration);
+ExtendedMixture compensation_mixture(const Calibration& calibration);
 
 }  // namespace tofcomp::core

@@ -30,7 +30,7 @@ WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
                                  const MixtureParameters& mixture, Eigen::Index window,
                                  Eigen::Index stride, const EmTestOptions& options = {});
 
-// The same windows with the extended noise of core/extended_mixture.hpp (EM testing by
+// The same windows with the extended mixture of core/extended_mixture.hpp (EM testing by
 // core/extended_em.hpp), `bin` holding each range's junction-temperature bin.
 WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
                                  const Eigen::Ref<const Eigen::VectorXd>& bias,

@@ -1,4 +1,4 @@
-// EM training (§5) and testing (§6) of Eq. 8 with the extended noise of
+// EM training (§5) and testing (§6) of Eq. 8 with the extended mixture of
 // core/extended_mixture.hpp. Both keep the paper's closed forms:
 //   E-step  the responsibilities of the extended mixture (forward-backward under a chain);
 //   M-step  (θ, μ) jointly by weighted least squares with weights r_ki / σ²_{b(k),i}
@@ -44,7 +44,7 @@ ExtendedEmResult train_extended_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
                                    const Eigen::VectorXd& theta_start, const ExtendedMixture& start,
                                    const ExtendedEmOptions& options = {});
 
-// §6 with the extended noise: d and the mode posteriors of one window. Starts from
+// §6 with the extended mixture: d and the mode posteriors of one window. Starts from
 // initial_distance, else from mean(y − bias) − Σ π_i μ_i. The standard deviation is Louis'
 // observed information (per range; under a chain this ignores the chain's coupling).
 EmTestResult test_extended_em(const Eigen::Ref<const Eigen::VectorXd>& y,

@@ -1,4 +1,4 @@
-// The noise of Eq. 8 with the extensions the residual diagnosis can point to
+// The mixture of Eq. 8 (the noise w_k) with the extensions the residual diagnosis can point to
 // (core/residual_diagnosis.hpp). The paper's w_k is drawn from M Gaussian lasing modes with
 // fixed weights, independently from range to range; the extended model relaxes that in four
 // ways, each of which keeps the E and M steps of §5-§6 in closed form:

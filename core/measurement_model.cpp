@@ -26,7 +26,7 @@ void MeasurementModel::validate() const {
     throw InvalidInput(msg.str());
   }
   require_finite(theta, "theta");
-  noise.validate();
+  mixture.validate();
   if (trained_junction_c &&
       !(std::isfinite(trained_junction_c->min_c) && std::isfinite(trained_junction_c->max_c) &&
         trained_junction_c->min_c <= trained_junction_c->max_c)) {

@@ -21,8 +21,8 @@ struct TemperatureRange {
 
 struct MeasurementModel {
   Basis basis;
-  Eigen::VectorXd theta;    // θ of Eq. 8, one coefficient per basis column
-  MixtureParameters noise;  // μ_i, σ_i², π_i of the modes
+  Eigen::VectorXd theta;      // θ of Eq. 8, one coefficient per basis column
+  MixtureParameters mixture;  // μ_i, σ_i², π_i of the lasing modes
   // Where H(t) θ was fitted. Beyond it the bias continues along its tangent at the nearer end
   // (first order, as chrony bounds its temperature compensation to the fitted range) rather than
   // along the basis: a polynomial fitted over a few kelvin says nothing of its higher terms a few

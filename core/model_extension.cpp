@@ -23,9 +23,10 @@ const char* covariate_name(Covariate covariate) {
 }
 
 void ModelExtension::validate() const {
-  noise.validate();
+  extended_mixture.validate();
   if (!std::isfinite(covariate_mm)) throw InvalidInput("the covariate coefficient is not finite");
-  if (covariate == Covariate::WarmUp && !(time_constant_s > 0.0 && std::isfinite(time_constant_s))) {
+  if (covariate == Covariate::WarmUp &&
+      !(time_constant_s > 0.0 && std::isfinite(time_constant_s))) {
     throw InvalidInput("the warm-up covariate needs a positive time constant");
   }
 }

@@ -1,5 +1,6 @@
 // Eq. 8 extended by what the residual diagnosis found (core/residual_diagnosis.hpp):
-//   y_k = d + H(t^j_k) θ + γ c_k + w_k,   w_k from the extended noise (core/extended_mixture.hpp),
+//   y_k = d + H(t^j_k) θ + γ c_k + w_k,   w_k from the extended mixture
+//   (core/extended_mixture.hpp),
 // where c_k is a covariate the bias lacks: the time since the start of the data (time drift),
 // the junction's heating rate (heating hysteresis) or the warm-up transient exp(−t_on/τ) after
 // a power-on (core/warm_up.hpp). The covariate is one more column of the
@@ -17,7 +18,7 @@ namespace tofcomp::core {
 
 enum class Covariate {
   None,
-  TimeHours,             // hours since the start of the data (the daemon: since its start)
+  TimeHours,              // hours since the start of the data (the daemon: since its start)
   HeatingRateCPerMinute,  // dt^j/dt in °C/min, from the junction estimate
   WarmUp                  // exp(−t_on/τ), t_on the seconds since the last power-on
 };
@@ -34,11 +35,11 @@ const char* covariate_name(Covariate covariate);
 struct ModelExtension {
   EffectKind effect = EffectKind::SerialDependence;  // the effect it models
   Covariate covariate = Covariate::None;
-  double covariate_mm = 0.0;     // γ: mm per unit of the covariate
-  double time_constant_s = 0.0;  // τ of the warm-up covariate (0 for the others)
-  ExtendedMixture noise;         // replaces the paper's mixture
+  double covariate_mm = 0.0;         // γ: mm per unit of the covariate
+  double time_constant_s = 0.0;      // τ of the warm-up covariate (0 for the others)
+  ExtendedMixture extended_mixture;  // replaces the paper's mixture (model.mixture)
 
-  // Throws InvalidInput when the noise is invalid, a covariate has a non-finite γ or the
+  // Throws InvalidInput when the extended mixture is invalid, a covariate has a non-finite γ or the
   // warm-up a time constant that is not positive.
   void validate() const;
   // c_k for each range (zeros without a covariate).

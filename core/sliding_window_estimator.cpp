@@ -22,11 +22,12 @@ SlidingWindowEstimator::SlidingWindowEstimator(MixtureParameters mixture,
                                                SlidingWindowOptions options)
     : SlidingWindowEstimator(without_extensions(mixture), options) {}
 
-SlidingWindowEstimator::SlidingWindowEstimator(ExtendedMixture noise, SlidingWindowOptions options)
-    : noise_(std::move(noise)), options_(options), detector_(options.change) {
-  noise_.validate();
-  extended_ = noise_.has_extension();
-  chain_ = noise_.transition.size() > 0;
+SlidingWindowEstimator::SlidingWindowEstimator(ExtendedMixture extended_mixture,
+                                               SlidingWindowOptions options)
+    : extended_mixture_(std::move(extended_mixture)), options_(options), detector_(options.change) {
+  extended_mixture_.validate();
+  extended_ = extended_mixture_.has_extension();
+  chain_ = extended_mixture_.transition.size() > 0;
   if (options_.window < 1 || options_.min_samples < 1 || options_.min_samples > options_.window) {
     std::ostringstream msg;
     msg << "sliding window of " << options_.window << " with min_samples " << options_.min_samples
@@ -43,18 +44,19 @@ SlidingWindowEstimator::SlidingWindowEstimator(ExtendedMixture noise, SlidingWin
   ordered_bin_.resize(options_.window);
   zeros_ = Eigen::VectorXd::Zero(options_.window);
   terms_.resize(static_cast<std::size_t>(options_.window));
-  const int m = noise_.modes.modes();
-  const double log_inlier = std::log1p(-noise_.outlier_weight);
-  log_outlier_ = noise_.outlier_weight > 0.0
-                     ? std::log(noise_.outlier_weight * noise_.outlier_density)
-                     : -INFINITY;
-  for (int b = 0; b < noise_.bins(); ++b) {
+  const int m = extended_mixture_.modes.modes();
+  const double log_inlier = std::log1p(-extended_mixture_.outlier_weight);
+  log_outlier_ =
+      extended_mixture_.outlier_weight > 0.0
+          ? std::log(extended_mixture_.outlier_weight * extended_mixture_.outlier_density)
+          : -INFINITY;
+  for (int b = 0; b < extended_mixture_.bins(); ++b) {
     // Without an extension these are the mixture's own vectors: the same arithmetic as ever.
-    Eigen::VectorXd weight = noise_.modes.weight;
-    Eigen::VectorXd variance = noise_.modes.variance;
+    Eigen::VectorXd weight = extended_mixture_.modes.weight;
+    Eigen::VectorXd variance = extended_mixture_.modes.variance;
     for (int i = 0; i < m; ++i) {
-      weight[i] = noise_.weight(b, i);
-      variance[i] = noise_.variance(b, i);
+      weight[i] = extended_mixture_.weight(b, i);
+      variance[i] = extended_mixture_.variance(b, i);
     }
     precision_.push_back(variance.cwiseInverse());
     inverse_std_.push_back(precision_.back().cwiseSqrt());
@@ -64,12 +66,13 @@ SlidingWindowEstimator::SlidingWindowEstimator(ExtendedMixture noise, SlidingWin
         (log_inlier - 0.5 * (2.0 * std::numbers::pi * variance.array()).log()).matrix());
   }
   if (chain_) slot_prior_.resize(options_.window, m);
-  if (noise_.outlier_weight > 0.0) {
+  if (extended_mixture_.outlier_weight > 0.0) {
     // The run of outliers whose chance under the model, ε^n, is below 1e-7.
     outlier_run_ = static_cast<int>(std::clamp(
-        std::ceil(std::log(kFalseRestartChance) / std::log(noise_.outlier_weight)), 3.0, 10.0));
+        std::ceil(std::log(kFalseRestartChance) / std::log(extended_mixture_.outlier_weight)), 3.0,
+        10.0));
   }
-  filtered_ = noise_.modes.weight;
+  filtered_ = extended_mixture_.modes.weight;
   posterior_.resize(m);
 }
 
@@ -88,7 +91,7 @@ void SlidingWindowEstimator::reset() {
 // detector's z, core/change_detector.hpp), from the cached log-priors and precisions of its bin.
 double SlidingWindowEstimator::standardized(double residual, int bin) const {
   const auto b = static_cast<std::size_t>(bin);
-  const MixtureParameters& modes = noise_.modes;
+  const MixtureParameters& modes = extended_mixture_.modes;
   Eigen::Index best = 0;
   double best_log = -INFINITY;
   for (Eigen::Index i = 0; i < modes.modes(); ++i) {
@@ -107,8 +110,8 @@ double SlidingWindowEstimator::outlier_probability(double residual, int bin) con
   const auto b = static_cast<std::size_t>(bin);
   double largest = log_outlier_;
   double inlier = -INFINITY;
-  for (Eigen::Index i = 0; i < noise_.modes.modes(); ++i) {
-    const double r = residual - noise_.modes.mean[i];
+  for (Eigen::Index i = 0; i < extended_mixture_.modes.modes(); ++i) {
+    const double r = residual - extended_mixture_.modes.mean[i];
     const double log_joint =
         log_weight_[b][i] + log_density_shift_[b][i] - 0.5 * r * r * precision_[b][i];
     inlier = std::max(inlier, log_joint);
@@ -116,8 +119,8 @@ double SlidingWindowEstimator::outlier_probability(double residual, int bin) con
   largest = std::max(largest, inlier);
   double total = std::exp(log_outlier_ - largest);
   const double outlier = total;
-  for (Eigen::Index i = 0; i < noise_.modes.modes(); ++i) {
-    const double r = residual - noise_.modes.mean[i];
+  for (Eigen::Index i = 0; i < extended_mixture_.modes.modes(); ++i) {
+    const double r = residual - extended_mixture_.modes.mean[i];
     total += std::exp(log_weight_[b][i] + log_density_shift_[b][i] -
                       0.5 * r * r * precision_[b][i] - largest);
   }
@@ -147,9 +150,10 @@ void SlidingWindowEstimator::push(double corrected_range, int bin) {
 
 WindowEstimate SlidingWindowEstimator::add(double corrected_range, int bin) {
   require_finite(corrected_range, "bias-corrected range");
-  if (bin < 0 || bin >= noise_.bins()) {
+  if (bin < 0 || bin >= extended_mixture_.bins()) {
     throw InvalidInput("sliding window: temperature bin " + std::to_string(bin) +
-                       " outside the noise's " + std::to_string(noise_.bins()) + " bins");
+                       " outside the mixture's " + std::to_string(extended_mixture_.bins()) +
+                       " bins");
   }
   WindowEstimate out;
   if (has_distance_ && count_ >= options_.min_samples && detect_change(corrected_range, bin)) {
@@ -179,10 +183,10 @@ void SlidingWindowEstimator::fit_exact(WindowEstimate& out) {
   const std::optional<double> warm =
       has_distance_ ? std::optional<double>(distance_) : std::nullopt;
   const EmTestResult fit =
-      extended_
-          ? test_extended_em(ordered_.head(count_), zeros_.head(count_), ordered_bin_.head(count_),
-                             noise_, options_.em, warm)
-          : test_em(ordered_.head(count_), zeros_.head(count_), noise_.modes, options_.em, warm);
+      extended_ ? test_extended_em(ordered_.head(count_), zeros_.head(count_),
+                                   ordered_bin_.head(count_), extended_mixture_, options_.em, warm)
+                : test_em(ordered_.head(count_), zeros_.head(count_), extended_mixture_.modes,
+                          options_.em, warm);
   distance_ = fit.distance;
   out.posterior = fit.responsibilities.row(count_ - 1).transpose();
   // The modes' responsibilities leave the outlier's out.
@@ -195,10 +199,10 @@ void SlidingWindowEstimator::fit_exact(WindowEstimate& out) {
 // of Louis' observed information: Σ_i r_i/σ_i² − Var_r[(x − d − μ_i)/σ_i²].
 SlidingWindowEstimator::Terms SlidingWindowEstimator::terms_at(double corrected_range,
                                                                double distance) {
-  const Eigen::Index m = noise_.modes.modes();
+  const Eigen::Index m = extended_mixture_.modes.modes();
   double largest = -INFINITY;
   for (Eigen::Index i = 0; i < m; ++i) {
-    const double r = corrected_range - distance - noise_.modes.mean[i];
+    const double r = corrected_range - distance - extended_mixture_.modes.mean[i];
     posterior_[i] = log_prior_[0][i] - 0.5 * r * r * precision_[0][i];
     largest = std::max(largest, posterior_[i]);
   }
@@ -213,9 +217,11 @@ SlidingWindowEstimator::Terms SlidingWindowEstimator::terms_at(double corrected_
   double score_mean = 0.0;
   double score_square = 0.0;
   for (Eigen::Index i = 0; i < m; ++i) {
-    const double score = (corrected_range - distance - noise_.modes.mean[i]) * precision_[0][i];
-    t.numerator +=
-        posterior_[i] * (corrected_range - reference_ - noise_.modes.mean[i]) * precision_[0][i];
+    const double score =
+        (corrected_range - distance - extended_mixture_.modes.mean[i]) * precision_[0][i];
+    t.numerator += posterior_[i] *
+                   (corrected_range - reference_ - extended_mixture_.modes.mean[i]) *
+                   precision_[0][i];
     t.denominator += posterior_[i] * precision_[0][i];
     score_mean += posterior_[i] * score;
     score_square += posterior_[i] * score * score;
@@ -230,9 +236,9 @@ SlidingWindowEstimator::Terms SlidingWindowEstimator::terms_at(double corrected_
 SlidingWindowEstimator::Terms SlidingWindowEstimator::extended_terms_at(double corrected_range,
                                                                         double distance,
                                                                         std::size_t slot) {
-  const Eigen::Index m = noise_.modes.modes();
+  const Eigen::Index m = extended_mixture_.modes.modes();
   const auto b = static_cast<std::size_t>(ring_bin_[static_cast<Eigen::Index>(slot)]);
-  const Eigen::VectorXd& mean = noise_.modes.mean;
+  const Eigen::VectorXd& mean = extended_mixture_.modes.mean;
   const Eigen::VectorXd& precision = precision_[b];
   double largest = log_outlier_;
   for (Eigen::Index i = 0; i < m; ++i) {
@@ -294,18 +300,19 @@ void SlidingWindowEstimator::fit_incremental(double corrected_range, int bin, Wi
   if (count_ == 0) {
     // A (re)start: the sums are relative to the first range; d̂ starts as em_test's does.
     reference_ = corrected_range;
-    distance_ = corrected_range - noise_.modes.mean_offset();
+    distance_ = corrected_range - extended_mixture_.modes.mean_offset();
     sums_ = {};
     adds_since_resum_ = 0;
     refresh_next_ = 0;
-    filtered_ = noise_.modes.weight;  // a chain starts from its initial law
+    filtered_ = extended_mixture_.modes.weight;  // a chain starts from its initial law
   }
   const std::size_t slot = static_cast<std::size_t>(next_);
   if (count_ == options_.window) add_terms(terms_[slot], -1.0);  // the range leaving
   if (chain_) {
     // The forward prediction P(mode_k | the ranges before it) = α_{k−1}ᵀA, kept for refreshes.
     slot_prior_.row(static_cast<Eigen::Index>(slot)) =
-        count_ == 0 ? filtered_.transpose() : (filtered_.transpose() * noise_.transition).eval();
+        count_ == 0 ? filtered_.transpose()
+                    : (filtered_.transpose() * extended_mixture_.transition).eval();
   }
   push(corrected_range, bin);
   terms_[slot] = e_step(corrected_range, slot);

@@ -18,7 +18,7 @@
 //   re-added from the stored terms every W ranges, so rounding cannot accumulate.
 // Memory O(W) either way.
 //
-// Under the extended noise of core/extended_mixture.hpp (a calibration's model extension,
+// Under the extended mixture of core/extended_mixture.hpp (a calibration's model extension,
 // core/model_extension.hpp) each range carries its temperature bin b(k) (the junction's bin at
 // its scan) and both methods test d as core/extended_em.hpp does:
 // - Exact: test_extended_em on the window, the bins with it.
@@ -71,17 +71,17 @@ class SlidingWindowEstimator {
  public:
   // The paper's mixture: the same as without_extensions(mixture).
   SlidingWindowEstimator(MixtureParameters mixture, SlidingWindowOptions options = {});
-  // The extended noise. Throws InvalidInput when it is invalid.
-  SlidingWindowEstimator(ExtendedMixture noise, SlidingWindowOptions options = {});
+  // The extended mixture. Throws InvalidInput when it is invalid.
+  SlidingWindowEstimator(ExtendedMixture extended_mixture, SlidingWindowOptions options = {});
 
   // Adds one bias-corrected range y − H θ̂ (finite) of temperature bin `bin` (0..B−1 of the
-  // noise; 0 without bins) and returns the window's estimate. Throws InvalidInput on a
+  // extended mixture; 0 without bins) and returns the window's estimate. Throws InvalidInput on a
   // non-finite range or a bin out of range.
   WindowEstimate add(double corrected_range, int bin = 0);
   void reset();
   const SlidingWindowOptions& options() const { return options_; }
-  const MixtureParameters& mixture() const { return noise_.modes; }
-  const ExtendedMixture& noise() const { return noise_; }
+  const MixtureParameters& mixture() const { return extended_mixture_.modes; }
+  const ExtendedMixture& extended_mixture() const { return extended_mixture_; }
 
  private:
   // One range's terms of the incremental sums, evaluated at the d̂ of its last E-step.
@@ -95,7 +95,7 @@ class SlidingWindowEstimator {
   void fit_incremental(double corrected_range, int bin, WindowEstimate& out);
   // E-step of one range at d: fills posterior_ and returns its terms.
   Terms terms_at(double corrected_range, double distance);
-  // The same under the extended noise for the range in ring slot `slot` (its bin and, under a
+  // The same under the extended mixture for the range in ring slot `slot` (its bin and, under a
   // chain, its stored prior); also fills outlier_.
   Terms extended_terms_at(double corrected_range, double distance, std::size_t slot);
   void resum();
@@ -103,8 +103,8 @@ class SlidingWindowEstimator {
   double outlier_probability(double residual, int bin) const;
   bool detect_change(double corrected_range, int bin);
 
-  ExtendedMixture noise_;
-  bool extended_ = false;  // noise_.has_extension()
+  ExtendedMixture extended_mixture_;
+  bool extended_ = false;  // extended_mixture_.has_extension()
   bool chain_ = false;     // a Markov chain over the modes
   SlidingWindowOptions options_;
   ChangeDetector detector_;

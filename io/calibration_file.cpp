@@ -116,8 +116,9 @@ void emit_matrix(YAML::Emitter& out, const char* key, const Eigen::MatrixXd& m) 
 void emit_extension(YAML::Emitter& out, const core::ModelExtension& e,
                     const core::MixtureParameters& modes) {
   e.validate();
-  if (e.noise.modes.mean != modes.mean || e.noise.modes.variance != modes.variance ||
-      e.noise.modes.weight != modes.weight) {
+  if (e.extended_mixture.modes.mean != modes.mean ||
+      e.extended_mixture.modes.variance != modes.variance ||
+      e.extended_mixture.modes.weight != modes.weight) {
     throw core::InvalidInput("the extension's modes differ from the measurement's modes");
   }
   out << YAML::Key << "extension" << YAML::Value << YAML::BeginMap;
@@ -127,17 +128,19 @@ void emit_extension(YAML::Emitter& out, const core::ModelExtension& e,
   if (e.covariate == core::Covariate::WarmUp) {
     out << YAML::Key << "time_constant_s" << YAML::Value << e.time_constant_s;
   }
-  if (e.noise.bin_edges_c.size() > 0) {
+  if (e.extended_mixture.bin_edges_c.size() > 0) {
     out << YAML::Key << "bin_edges_c" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-    for (Eigen::Index b = 0; b < e.noise.bin_edges_c.size(); ++b) out << e.noise.bin_edges_c[b];
+    for (Eigen::Index b = 0; b < e.extended_mixture.bin_edges_c.size(); ++b)
+      out << e.extended_mixture.bin_edges_c[b];
     out << YAML::EndSeq;
   }
-  emit_matrix(out, "bin_weights", e.noise.bin_weight);
-  emit_matrix(out, "bin_variances_mm2", e.noise.bin_variance);
-  emit_matrix(out, "transition", e.noise.transition);
-  if (e.noise.outlier_weight > 0.0) {
-    out << YAML::Key << "outlier_weight" << YAML::Value << e.noise.outlier_weight;
-    out << YAML::Key << "outlier_span_mm" << YAML::Value << 1.0 / e.noise.outlier_density;
+  emit_matrix(out, "bin_weights", e.extended_mixture.bin_weight);
+  emit_matrix(out, "bin_variances_mm2", e.extended_mixture.bin_variance);
+  emit_matrix(out, "transition", e.extended_mixture.transition);
+  if (e.extended_mixture.outlier_weight > 0.0) {
+    out << YAML::Key << "outlier_weight" << YAML::Value << e.extended_mixture.outlier_weight;
+    out << YAML::Key << "outlier_span_mm" << YAML::Value
+        << 1.0 / e.extended_mixture.outlier_density;
   }
   out << YAML::EndMap;
 }
@@ -195,16 +198,16 @@ core::ModelExtension read_extension(const YamlMap& top, const core::MixtureParam
   } else if (x.has("time_constant_s")) {
     x.fail("time_constant_s", "belongs to the warm_up covariate only");
   }
-  e.noise.modes = modes;
-  if (x.has("bin_edges_c")) e.noise.bin_edges_c = read_vector(x, "bin_edges_c");
-  e.noise.bin_weight = read_matrix(x, "bin_weights");
-  e.noise.bin_variance = read_matrix(x, "bin_variances_mm2");
-  e.noise.transition = read_matrix(x, "transition");
+  e.extended_mixture.modes = modes;
+  if (x.has("bin_edges_c")) e.extended_mixture.bin_edges_c = read_vector(x, "bin_edges_c");
+  e.extended_mixture.bin_weight = read_matrix(x, "bin_weights");
+  e.extended_mixture.bin_variance = read_matrix(x, "bin_variances_mm2");
+  e.extended_mixture.transition = read_matrix(x, "transition");
   if (x.has("outlier_weight")) {
-    e.noise.outlier_weight = x.number("outlier_weight");
+    e.extended_mixture.outlier_weight = x.number("outlier_weight");
     const double span = x.number("outlier_span_mm");
     if (!(span > 0.0)) x.fail("outlier_span_mm", "must be positive");
-    e.noise.outlier_density = 1.0 / span;
+    e.extended_mixture.outlier_density = 1.0 / span;
   }
   try {
     e.validate();
@@ -248,10 +251,10 @@ std::string calibration_to_yaml(const core::Calibration& c) {
   out << YAML::Key << "power_w" << YAML::Value << c.thermal.power_w;
   out << YAML::Key << "ambient_c" << YAML::Value << c.ambient_c;
   out << YAML::Key << "process_noise_case_k2_per_s" << YAML::Value
-      << c.noise.case_process_psd_k2_per_s;
+      << c.kalman_noise.case_process_psd_k2_per_s;
   out << YAML::Key << "process_noise_junction_k2_per_s" << YAML::Value
-      << c.noise.junction_process_psd_k2_per_s;
-  out << YAML::Key << "sensor_noise_k2" << YAML::Value << c.noise.measurement_variance_k2;
+      << c.kalman_noise.junction_process_psd_k2_per_s;
+  out << YAML::Key << "sensor_noise_k2" << YAML::Value << c.kalman_noise.measurement_variance_k2;
   out << YAML::EndMap;
 
   out << YAML::Key << "measurement" << YAML::Value << YAML::BeginMap;
@@ -260,11 +263,11 @@ std::string calibration_to_yaml(const core::Calibration& c) {
   for (Eigen::Index i = 0; i < c.model.theta.size(); ++i) out << c.model.theta[i];
   out << YAML::EndSeq;
   out << YAML::Key << "modes" << YAML::Value << YAML::BeginSeq;
-  for (int i = 0; i < c.model.noise.modes(); ++i) {
+  for (int i = 0; i < c.model.mixture.modes(); ++i) {
     out << YAML::Flow << YAML::BeginMap;
-    out << YAML::Key << "offset_mm" << YAML::Value << c.model.noise.mean[i];
-    out << YAML::Key << "variance_mm2" << YAML::Value << c.model.noise.variance[i];
-    out << YAML::Key << "weight" << YAML::Value << c.model.noise.weight[i];
+    out << YAML::Key << "offset_mm" << YAML::Value << c.model.mixture.mean[i];
+    out << YAML::Key << "variance_mm2" << YAML::Value << c.model.mixture.variance[i];
+    out << YAML::Key << "weight" << YAML::Value << c.model.mixture.weight[i];
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;
@@ -275,7 +278,7 @@ std::string calibration_to_yaml(const core::Calibration& c) {
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
-  if (c.extension) emit_extension(out, *c.extension, c.model.noise);
+  if (c.extension) emit_extension(out, *c.extension, c.model.mixture);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -317,12 +320,12 @@ core::Calibration read_calibration_file(const std::string& file) {
     c.thermal.c2_j_per_k = t.number("c2_j_per_k");
     c.thermal.power_w = t.number("power_w");
     c.ambient_c = t.number("ambient_c");
-    c.noise.case_process_psd_k2_per_s = t.number("process_noise_case_k2_per_s");
-    c.noise.junction_process_psd_k2_per_s = t.number("process_noise_junction_k2_per_s");
-    c.noise.measurement_variance_k2 = t.number("sensor_noise_k2");
+    c.kalman_noise.case_process_psd_k2_per_s = t.number("process_noise_case_k2_per_s");
+    c.kalman_noise.junction_process_psd_k2_per_s = t.number("process_noise_junction_k2_per_s");
+    c.kalman_noise.measurement_variance_k2 = t.number("sensor_noise_k2");
     try {
       c.thermal.validate();
-      c.noise.validate();
+      c.kalman_noise.validate();
     } catch (const core::InvalidInput& e) {
       throw YamlSchemaError(std::string("thermal: ") + e.what());
     }
@@ -339,23 +342,23 @@ core::Calibration read_calibration_file(const std::string& file) {
     const YAML::Node modes = m.node("modes");
     if (!modes.IsSequence() || modes.size() == 0) m.fail("modes", "must be a non-empty list");
     const auto count = static_cast<Eigen::Index>(modes.size());
-    c.model.noise.mean.resize(count);
-    c.model.noise.variance.resize(count);
-    c.model.noise.weight.resize(count);
+    c.model.mixture.mean.resize(count);
+    c.model.mixture.variance.resize(count);
+    c.model.mixture.weight.resize(count);
     for (std::size_t i = 0; i < modes.size(); ++i) {
       const YamlMap mode(modes[i], "measurement.modes[" + std::to_string(i) + "]",
                          {"offset_mm", "variance_mm2", "weight"});
       const auto j = static_cast<Eigen::Index>(i);
-      c.model.noise.mean[j] = mode.number("offset_mm");
-      c.model.noise.variance[j] = mode.number("variance_mm2");
-      c.model.noise.weight[j] = mode.number("weight");
+      c.model.mixture.mean[j] = mode.number("offset_mm");
+      c.model.mixture.variance[j] = mode.number("variance_mm2");
+      c.model.mixture.weight[j] = mode.number("weight");
     }
     try {
       c.model.validate();
     } catch (const core::InvalidInput& e) {
       throw YamlSchemaError(std::string("measurement: ") + e.what());
     }
-    if (top.has("extension")) c.extension = read_extension(top, c.model.noise);
+    if (top.has("extension")) c.extension = read_extension(top, c.model.mixture);
     return c;
   } catch (const YamlSchemaError& e) {
     const std::string what = e.what();

@@ -17,7 +17,7 @@ JunctionTracker::JunctionTracker(const core::Calibration& calibration,
         "junction tracker: stale_after_s and the initial standard deviations must be positive");
   }
   calibration_.thermal.validate();
-  calibration_.noise.validate();
+  calibration_.kalman_noise.validate();
   continuous_ = core::continuous_model(calibration_.thermal);
 }
 
@@ -33,7 +33,7 @@ void JunctionTracker::add_case_reading(double time_s, double case_c) {
   }
   if (!filter_) {
     // The prior of the offline pipeline: the steady state at this case temperature.
-    filter_.emplace(calibration_.thermal, calibration_.noise,
+    filter_.emplace(calibration_.thermal, calibration_.kalman_noise,
                     core::prior_at_case_temperature(
                         calibration_.thermal, case_c, power_on_ ? 1.0 : 0.0,
                         settings_.initial_case_std_c, settings_.initial_junction_std_c));

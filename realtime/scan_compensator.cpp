@@ -11,9 +11,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-int junction_bin(const core::ExtendedMixture& noise, double junction_c) {
+int junction_bin(const core::ExtendedMixture& mixture, double junction_c) {
   int b = 0;
-  while (b < noise.bin_edges_c.size() && junction_c >= noise.bin_edges_c[b]) ++b;
+  while (b < mixture.bin_edges_c.size() && junction_c >= mixture.bin_edges_c[b]) ++b;
   return b;
 }
 
@@ -32,24 +32,24 @@ void ScanCompensator::set_calibration(std::shared_ptr<const core::Calibration> c
                                       std::uint32_t id) {
   if (!calibration) throw core::InvalidInput("scan compensator: no calibration given");
   calibration->model.validate();
-  if (calibration->model.noise.modes() > ipc::kMaxModes) {
-    throw core::InvalidInput("calibration has " + std::to_string(calibration->model.noise.modes()) +
-                             " lasing modes; the published record carries at most " +
-                             std::to_string(ipc::kMaxModes));
+  if (calibration->model.mixture.modes() > ipc::kMaxModes) {
+    throw core::InvalidInput(
+        "calibration has " + std::to_string(calibration->model.mixture.modes()) +
+        " lasing modes; the published record carries at most " + std::to_string(ipc::kMaxModes));
   }
   if (calibration->extension) {
     calibration->extension->validate();
-    if (calibration->extension->noise.modes.modes() > ipc::kMaxModes) {
-      throw core::InvalidInput("calibration extension has " +
-                               std::to_string(calibration->extension->noise.modes.modes()) +
-                               " lasing modes; the published record carries at most " +
-                               std::to_string(ipc::kMaxModes));
+    if (calibration->extension->extended_mixture.modes.modes() > ipc::kMaxModes) {
+      throw core::InvalidInput(
+          "calibration extension has " +
+          std::to_string(calibration->extension->extended_mixture.modes.modes()) +
+          " lasing modes; the published record carries at most " + std::to_string(ipc::kMaxModes));
     }
   }
-  core::ExtendedMixture noise = core::compensation_noise(*calibration);
-  // Checks the window options against this noise before anything changes.
-  core::SlidingWindowEstimator check(noise, window_options_);
-  noise_ = std::move(noise);
+  core::ExtendedMixture mixture = core::compensation_mixture(*calibration);
+  // Checks the window options against this mixture before anything changes.
+  core::SlidingWindowEstimator check(mixture, window_options_);
+  extended_mixture_ = std::move(mixture);
   calibration_ = std::move(calibration);
   calibration_id_ = id;
   windows_.clear();
@@ -62,7 +62,7 @@ void ScanCompensator::clear_calibration() {
 }
 
 void ScanCompensator::set_window_options(const core::SlidingWindowOptions& window) {
-  if (calibration_) core::SlidingWindowEstimator check(noise_, window);
+  if (calibration_) core::SlidingWindowEstimator check(extended_mixture_, window);
   window_options_ = window;
   windows_.clear();
 }
@@ -71,7 +71,7 @@ void ScanCompensator::rebuild_windows(std::size_t beams) {
   windows_.clear();
   windows_.reserve(beams);
   for (std::size_t b = 0; b < beams; ++b) {
-    windows_.emplace_back(noise_, window_options_);
+    windows_.emplace_back(extended_mixture_, window_options_);
   }
 }
 
@@ -110,8 +110,8 @@ ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
   const double bias = compensating ? calibration_->model.bias_at(junction.junction_c) +
                                          covariate_bias(*calibration_, scan.time_s, junction)
                                    : 0.0;
-  const int bin = compensating ? junction_bin(noise_, junction.junction_c) : 0;
-  const core::MixtureParameters* modes = calibrated ? &noise_.modes : nullptr;
+  const int bin = compensating ? junction_bin(extended_mixture_, junction.junction_c) : 0;
+  const core::MixtureParameters* modes = calibrated ? &extended_mixture_.modes : nullptr;
 
   for (std::size_t b = 0; b < beams; ++b) {
     ipc::BeamValue& v = out.beams[b];

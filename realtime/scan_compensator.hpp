@@ -10,7 +10,7 @@
 // (calibration/compensation.cpp): the scan's bias gains γ·c, c the hours since the pipeline's clock
 // origin (RawScan::time_s / 3600), the junction's heating rate or the warm-up exp(−t_on/τ) from the
 // time since the last power-on (both in JunctionEstimate), and every window
-// tests d under the extended noise, each range with the temperature bin of the scan's junction
+// tests d under the extended mixture, each range with the temperature bin of the scan's junction
 // estimate. A range the outlier component takes (P > 0.5) is flagged kBeamOutlier.
 #pragma once
 
@@ -55,7 +55,7 @@ class ScanCompensator {
   core::SlidingWindowOptions window_options_;
   std::shared_ptr<const core::Calibration> calibration_;
   std::uint32_t calibration_id_ = 0;
-  core::ExtendedMixture noise_;                        // the calibration's (extended) noise
+  core::ExtendedMixture extended_mixture_;             // the calibration's (extended) mixture
   std::vector<core::SlidingWindowEstimator> windows_;  // one per beam, when calibrated
 };
 

@@ -81,9 +81,9 @@ struct ThermalNoiseOverrides {
 
 // `calibration`: the calibration file (docs/calibration-file.md) compensation starts from.
 struct CalibrationConfig {
-  std::filesystem::path file;  // empty: no calibration; ranges are published uncompensated
-  ThermalNoiseOverrides noise;
-  std::optional<double> ambient_c;  // overrides the file's ambient_c
+  std::filesystem::path file;          // empty: no calibration; ranges are published uncompensated
+  ThermalNoiseOverrides kalman_noise;  // key `noise`
+  std::optional<double> ambient_c;     // overrides the file's ambient_c
 };
 
 // An inclusive range of beam indices.

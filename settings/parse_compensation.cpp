@@ -24,11 +24,11 @@ void parse_calibration(const io::YamlMap& root, const ParseContext& context,
   if (const auto noise = fields::section(
           *calibration, "noise",
           {"process_noise_case_k2_per_s", "process_noise_junction_k2_per_s", "sensor_noise_k2"})) {
-    out.noise.case_process_psd_k2_per_s =
+    out.kalman_noise.case_process_psd_k2_per_s =
         fields::optional_number(*noise, "process_noise_case_k2_per_s", at_least(0));
-    out.noise.junction_process_psd_k2_per_s =
+    out.kalman_noise.junction_process_psd_k2_per_s =
         fields::optional_number(*noise, "process_noise_junction_k2_per_s", at_least(0));
-    out.noise.measurement_variance_k2 =
+    out.kalman_noise.measurement_variance_k2 =
         fields::optional_number(*noise, "sensor_noise_k2", greater_than(0));
   }
   out.ambient_c = fields::optional_number(*calibration, "ambient_c", between(-60, 100));

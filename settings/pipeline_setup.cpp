@@ -12,7 +12,7 @@ realtime::PipelineSettings pipeline_settings(const DaemonConfig& config) {
 std::shared_ptr<const core::Calibration> read_configured_calibration(const DaemonConfig& config) {
   if (config.calibration.file.empty()) return nullptr;
   core::Calibration calibration = io::read_calibration_file(config.calibration.file.string());
-  calibration.noise = config.calibration.noise.applied_to(calibration.noise);
+  calibration.kalman_noise = config.calibration.kalman_noise.applied_to(calibration.kalman_noise);
   if (config.calibration.ambient_c) calibration.ambient_c = *config.calibration.ambient_c;
   return std::make_shared<const core::Calibration>(std::move(calibration));
 }

@@ -175,7 +175,7 @@ TEST(ModelExtension, OutlierComponentRecoversTheModes) {
       evaluate_extension(core::EffectKind::Outliers, data.slice(-1e300, split),
                          data.slice(split, 1e300), settings, {400}, 20);
   ASSERT_TRUE(r.calibration.extension.has_value());
-  const core::ExtendedMixture& n = r.calibration.extension->noise;
+  const core::ExtendedMixture& n = r.calibration.extension->extended_mixture;
   // The scenario: 2 % outliers uniform in ±100 mm (a share within the modes' reach is taken for
   // inliers), modes 4.5 mm apart with σ 0.9 and 1.1 mm.
   EXPECT_NEAR(n.outlier_weight, 0.02, 0.006);

@@ -1,9 +1,10 @@
 // `tofcomp train` on twin data recovers the twin's parameters: what the case log determines of the
 // thermal network (the gain P R2 and the two time constants, core/thermal_identification.hpp's
-// header: the five parameters are never determined one by one), each mode's bias curve H(t)θ + μ_i against the twin's bias(t) + offset_i, the
-// spreads (with the 1 mm quantization's variance 1/12 mm² added) and the weights.
-// Tolerance of the curves: the bias falls by up to 2.7 mm/°C on this range, so the smoothed
-// junction temperature's error (≈ 0.1 °C from 0.0625 °C readings) alone moves them by ≈ 0.3 mm.
+// header: the five parameters are never determined one by one), each mode's bias curve H(t)θ + μ_i
+// against the twin's bias(t) + offset_i, the spreads (with the 1 mm quantization's variance 1/12
+// mm² added) and the weights. Tolerance of the curves: the bias falls by up to 2.7 mm/°C on this
+// range, so the smoothed junction temperature's error (≈ 0.1 °C from 0.0625 °C readings) alone
+// moves them by ≈ 0.3 mm.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -43,10 +44,10 @@ TEST_P(TrainRecoversTwin, WithinTolerances) {
               0.35);
 
   const auto& model = t.calibration.model;
-  ASSERT_EQ(model.noise.modes(), 2);
+  ASSERT_EQ(model.mixture.modes(), 2);
   for (double temp = 25.2; temp <= 28.4; temp += 0.4) {
     for (int i = 0; i < 2; ++i) {
-      EXPECT_NEAR(model.bias_at(temp) + model.noise.mean[i],
+      EXPECT_NEAR(model.bias_at(temp) + model.mixture.mean[i],
                   scenario.bias.at(temp) + scenario.modes[static_cast<std::size_t>(i)].offset_mm,
                   0.4)
           << "mode " << i << " at " << temp << " °C";
@@ -54,9 +55,9 @@ TEST_P(TrainRecoversTwin, WithinTolerances) {
   }
   for (int i = 0; i < 2; ++i) {
     const auto& mode = scenario.modes[static_cast<std::size_t>(i)];
-    EXPECT_NEAR(std::sqrt(model.noise.variance[i]), std::sqrt(mode.std_mm * mode.std_mm + 1.0 / 12),
-                0.06);
-    EXPECT_NEAR(model.noise.weight[i], mode.weight, 0.03);
+    EXPECT_NEAR(std::sqrt(model.mixture.variance[i]),
+                std::sqrt(mode.std_mm * mode.std_mm + 1.0 / 12), 0.06);
+    EXPECT_NEAR(model.mixture.weight[i], mode.weight, 0.03);
   }
 }
 

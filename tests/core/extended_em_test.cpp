@@ -1,4 +1,4 @@
-// The extended noise of Eq. 8 (core/extended_mixture.hpp) and its EM (core/extended_em.hpp),
+// The extended mixture of Eq. 8 (core/extended_mixture.hpp) and its EM (core/extended_em.hpp),
 // against independent answers: brute-force enumeration of the mode paths, the paper's E-step
 // and EM testing where the extension reduces to them, and recovery of known parameters from
 // data drawn from the extended model.

@@ -146,7 +146,7 @@ TEST(SlidingWindow, RestartingFlagUntilMinSamples) {
   EXPECT_THROW(SlidingWindowEstimator(kModes, options), InvalidInput);
 }
 
-// ---- The extended noise (core/extended_mixture.hpp) ----
+// ---- The extended mixture (core/extended_mixture.hpp) ----
 
 struct ExtendedCase {
   std::string name;

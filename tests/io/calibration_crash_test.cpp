@@ -49,9 +49,9 @@ core::Calibration make_calibration(char tag, unsigned seed) {
       core::TemperatureScaling{26.8, 2.0});
   c.model.theta.resize(c.model.basis.columns());
   for (Eigen::Index i = 0; i < c.model.theta.size(); ++i) c.model.theta[i] = uniform(random);
-  c.model.noise.mean = Eigen::Vector2d(-2.0 + uniform(random), 2.5 + uniform(random));
-  c.model.noise.variance = Eigen::Vector2d(0.81, 1.21);
-  c.model.noise.weight = Eigen::Vector2d(0.55, 0.45);
+  c.model.mixture.mean = Eigen::Vector2d(-2.0 + uniform(random), 2.5 + uniform(random));
+  c.model.mixture.variance = Eigen::Vector2d(0.81, 1.21);
+  c.model.mixture.weight = Eigen::Vector2d(0.55, 0.45);
   std::string notes;
   while (notes.size() < 200'000) {
     notes += std::string("calibration ") + tag + " line " + std::to_string(notes.size()) + "; ";
@@ -66,14 +66,15 @@ bool identical(const core::Calibration& x, const core::Calibration& y) {
          x.thermal.r2_k_per_w == y.thermal.r2_k_per_w &&
          x.thermal.c1_j_per_k == y.thermal.c1_j_per_k &&
          x.thermal.c2_j_per_k == y.thermal.c2_j_per_k && x.thermal.power_w == y.thermal.power_w &&
-         x.noise.case_process_psd_k2_per_s == y.noise.case_process_psd_k2_per_s &&
-         x.noise.junction_process_psd_k2_per_s == y.noise.junction_process_psd_k2_per_s &&
-         x.noise.measurement_variance_k2 == y.noise.measurement_variance_k2 &&
+         x.kalman_noise.case_process_psd_k2_per_s == y.kalman_noise.case_process_psd_k2_per_s &&
+         x.kalman_noise.junction_process_psd_k2_per_s ==
+             y.kalman_noise.junction_process_psd_k2_per_s &&
+         x.kalman_noise.measurement_variance_k2 == y.kalman_noise.measurement_variance_k2 &&
          x.ambient_c == y.ambient_c && x.model.basis.describe() == y.model.basis.describe() &&
          x.model.theta.size() == y.model.theta.size() && x.model.theta == y.model.theta &&
-         x.model.noise.mean == y.model.noise.mean &&
-         x.model.noise.variance == y.model.noise.variance &&
-         x.model.noise.weight == y.model.noise.weight &&
+         x.model.mixture.mean == y.model.mixture.mean &&
+         x.model.mixture.variance == y.model.mixture.variance &&
+         x.model.mixture.weight == y.model.mixture.weight &&
          x.provenance.data_set == y.provenance.data_set &&
          x.provenance.created_utc == y.provenance.created_utc &&
          x.provenance.software_version == y.provenance.software_version &&
@@ -84,8 +85,8 @@ enum class Found { First, Second, Neither };
 
 // What the real reader makes of the file: one of the two calibrations, or neither (an error, or
 // values that match neither).
-Found load_and_identify(const fs::path& file, const core::Calibration& first, const core::Calibration& second,
-                        std::string& error) {
+Found load_and_identify(const fs::path& file, const core::Calibration& first,
+                        const core::Calibration& second, std::string& error) {
   try {
     const core::Calibration loaded = read_calibration_file(file.string());
     if (identical(loaded, first)) return Found::First;

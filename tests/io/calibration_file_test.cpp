@@ -21,9 +21,9 @@ core::Calibration example() {
        core::BasisTerm{core::BasisKind::Fourier, 2, core::PolynomialForm::Legendre, 0.1}},
       core::TemperatureScaling{26.8, 2.0});
   c.model.theta = Eigen::VectorXd::LinSpaced(7, -1.0 / 3.0, 2.0 / 7.0);
-  c.model.noise.mean = Eigen::Vector2d(-2.0000000000000004, 2.5);
-  c.model.noise.variance = Eigen::Vector2d(0.81, 1.21);
-  c.model.noise.weight = Eigen::Vector2d(0.55, 0.45);
+  c.model.mixture.mean = Eigen::Vector2d(-2.0000000000000004, 2.5);
+  c.model.mixture.variance = Eigen::Vector2d(0.81, 1.21);
+  c.model.mixture.weight = Eigen::Vector2d(0.55, 0.45);
   c.provenance = {"data.csv", "2026-11-22T00:00:00Z", "tofcomp 0.1.0", 20000, "beam 0"};
   return c;
 }
@@ -45,14 +45,14 @@ TEST(CalibrationFile, RoundTripIsExact) {
   write_calibration_file(file, c);
   const core::Calibration back = read_calibration_file(file);
   EXPECT_EQ(back.model.theta, c.model.theta);
-  EXPECT_EQ(back.model.noise.mean, c.model.noise.mean);
-  EXPECT_EQ(back.model.noise.variance, c.model.noise.variance);
-  EXPECT_EQ(back.model.noise.weight, c.model.noise.weight);
+  EXPECT_EQ(back.model.mixture.mean, c.model.mixture.mean);
+  EXPECT_EQ(back.model.mixture.variance, c.model.mixture.variance);
+  EXPECT_EQ(back.model.mixture.weight, c.model.mixture.weight);
   EXPECT_EQ(back.model.basis.describe(), c.model.basis.describe());
   EXPECT_EQ(back.model.basis.scaling().half_range_c, 2.0);
   EXPECT_EQ(back.thermal.c2_j_per_k, 2000.0);
   EXPECT_EQ(back.ambient_c, 21.5);
-  EXPECT_EQ(back.noise.measurement_variance_k2, c.noise.measurement_variance_k2);
+  EXPECT_EQ(back.kalman_noise.measurement_variance_k2, c.kalman_noise.measurement_variance_k2);
   EXPECT_EQ(back.provenance.samples, 20000);
   // A second write of what was read is byte-identical.
   write_calibration_file(temp_file("calibration2.yaml"), back);
@@ -125,13 +125,13 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   e.effect = core::EffectKind::TemperatureDependentSpread;
   e.covariate = core::Covariate::HeatingRateCPerMinute;
   e.covariate_mm = 1.0 / 3.0;
-  e.noise = core::without_extensions(c.model.noise);
-  e.noise.bin_edges_c = Eigen::Vector2d(25.5, 27.25);
-  e.noise.bin_variance = Eigen::MatrixXd::Constant(3, 2, 0.7);
-  e.noise.bin_variance(2, 1) = 1.0 / 7.0;
-  e.noise.bin_weight = Eigen::MatrixXd::Constant(3, 2, 0.5);
-  e.noise.outlier_weight = 0.015;
-  e.noise.outlier_density = 1.0 / 180.0;
+  e.extended_mixture = core::without_extensions(c.model.mixture);
+  e.extended_mixture.bin_edges_c = Eigen::Vector2d(25.5, 27.25);
+  e.extended_mixture.bin_variance = Eigen::MatrixXd::Constant(3, 2, 0.7);
+  e.extended_mixture.bin_variance(2, 1) = 1.0 / 7.0;
+  e.extended_mixture.bin_weight = Eigen::MatrixXd::Constant(3, 2, 0.5);
+  e.extended_mixture.outlier_weight = 0.015;
+  e.extended_mixture.outlier_density = 1.0 / 180.0;
   c.extension = e;
   const std::string file = temp_file("extended.yaml");
   write_calibration_file(file, c);
@@ -140,27 +140,29 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   EXPECT_EQ(back.extension->effect, e.effect);
   EXPECT_EQ(back.extension->covariate, e.covariate);
   EXPECT_EQ(back.extension->covariate_mm, e.covariate_mm);
-  EXPECT_EQ(back.extension->noise.bin_edges_c, e.noise.bin_edges_c);
-  EXPECT_EQ(back.extension->noise.bin_variance, e.noise.bin_variance);
-  EXPECT_EQ(back.extension->noise.bin_weight, e.noise.bin_weight);
-  EXPECT_EQ(back.extension->noise.outlier_weight, e.noise.outlier_weight);
-  EXPECT_DOUBLE_EQ(back.extension->noise.outlier_density, e.noise.outlier_density);
-  EXPECT_EQ(back.extension->noise.modes.mean, c.model.noise.mean);
+  EXPECT_EQ(back.extension->extended_mixture.bin_edges_c, e.extended_mixture.bin_edges_c);
+  EXPECT_EQ(back.extension->extended_mixture.bin_variance, e.extended_mixture.bin_variance);
+  EXPECT_EQ(back.extension->extended_mixture.bin_weight, e.extended_mixture.bin_weight);
+  EXPECT_EQ(back.extension->extended_mixture.outlier_weight, e.extended_mixture.outlier_weight);
+  EXPECT_DOUBLE_EQ(back.extension->extended_mixture.outlier_density,
+                   e.extended_mixture.outlier_density);
+  EXPECT_EQ(back.extension->extended_mixture.modes.mean, c.model.mixture.mean);
 
   core::ModelExtension chain;
   chain.effect = core::EffectKind::ModePersistence;
-  chain.noise = core::without_extensions(c.model.noise);
-  chain.noise.transition = (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
+  chain.extended_mixture = core::without_extensions(c.model.mixture);
+  chain.extended_mixture.transition = (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
   c.extension = chain;
   write_calibration_file(file, c);
-  EXPECT_EQ(read_calibration_file(file).extension->noise.transition, chain.noise.transition);
+  EXPECT_EQ(read_calibration_file(file).extension->extended_mixture.transition,
+            chain.extended_mixture.transition);
 
   core::ModelExtension warm_up;
   warm_up.effect = core::EffectKind::WarmUp;
   warm_up.covariate = core::Covariate::WarmUp;
   warm_up.covariate_mm = 2.875;
   warm_up.time_constant_s = 1000.0 / 3.0;
-  warm_up.noise = core::without_extensions(c.model.noise);
+  warm_up.extended_mixture = core::without_extensions(c.model.mixture);
   c.extension = warm_up;
   write_calibration_file(file, c);
   const core::Calibration warm = read_calibration_file(file);
@@ -180,8 +182,8 @@ TEST(CalibrationFile, ExtensionErrorsNameTheKey) {
   core::Calibration c = example();
   core::ModelExtension chain;
   chain.effect = core::EffectKind::ModePersistence;
-  chain.noise = core::without_extensions(c.model.noise);
-  chain.noise.transition = (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
+  chain.extended_mixture = core::without_extensions(c.model.mixture);
+  chain.extended_mixture.transition = (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
   c.extension = chain;
   const std::string good = calibration_to_yaml(c);
   EXPECT_NE(error_of(replaced(good, "effect: mode_persistence", "effect: gremlins"))

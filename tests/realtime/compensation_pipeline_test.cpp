@@ -18,7 +18,7 @@ std::shared_ptr<core::Calibration> warm_up_calibration(double gamma_mm, double t
   x.covariate = core::Covariate::WarmUp;
   x.covariate_mm = gamma_mm;
   x.time_constant_s = tau_s;
-  x.noise = core::without_extensions(c->model.noise);
+  x.extended_mixture = core::without_extensions(c->model.mixture);
   c->extension = x;
   return c;
 }
@@ -43,7 +43,7 @@ TEST(CompensationPipeline, NewCalibrationKeepsTheWarmUpClock) {
   ASSERT_TRUE(std::isfinite(beam.compensated_mm));
   const double expected = 3020.0 - swapped->model.bias_at(out.junction_c) -
                           gamma * std::exp(-60.0 / tau) -
-                          swapped->model.noise.mean[beam.most_probable_mode];
+                          swapped->model.mixture.mean[beam.most_probable_mode];
   EXPECT_NEAR(beam.compensated_mm, expected, 1e-9);
 }
 

@@ -20,7 +20,7 @@ inline core::Calibration round_calibration() {
       {core::BasisTerm{core::BasisKind::Polynomial, 1, core::PolynomialForm::RawPower, 0.0}},
       core::TemperatureScaling{0.0, 1.0});
   c.model.theta = Eigen::VectorXd::Constant(1, 0.5);
-  c.model.noise = mixture({-2.0, 2.5}, {0.9, 1.1}, {0.55, 0.45});
+  c.model.mixture = mixture({-2.0, 2.5}, {0.9, 1.1}, {0.55, 0.45});
   return c;
 }
 

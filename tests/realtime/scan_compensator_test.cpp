@@ -36,7 +36,7 @@ TEST(ScanCompensator, RemovesTheBiasAndTheModeOffset) {
   const auto draw = [&](double d, unsigned seed) {
     return testing::draw_measurements(
         Eigen::VectorXd::Constant(2000, 26.0), d, [](double t) { return 0.5 * t; },
-        calibration->model.noise, seed);
+        calibration->model.mixture, seed);
   };
   const auto wall = draw(3000.0, 1);
   const auto near = draw(1500.0, 2);
@@ -97,7 +97,7 @@ TEST(ScanCompensator, FlagsAJunctionOutsideTheTrainedRange) {
   EXPECT_EQ(outside.beams[0].flags & ipc::kBeamTemperatureExtrapolated,
             ipc::kBeamTemperatureExtrapolated);
   EXPECT_NEAR(outside.beams[0].raw_mm - outside.beams[0].compensated_mm -
-                  c.model.noise.mean[outside.beams[0].most_probable_mode],
+                  c.model.mixture.mean[outside.beams[0].most_probable_mode],
               3.0 - 625.0, 0.03);
 }
 
@@ -139,10 +139,10 @@ TEST(ScanCompensator, FlagsAChangeOfScene) {
   compensator.set_calibration(calibration, 1);
   const auto wall = testing::draw_measurements(
       Eigen::VectorXd::Constant(500, 26.0), 3000.0, [](double t) { return 0.5 * t; },
-      calibration->model.noise, 5);
+      calibration->model.mixture, 5);
   const auto object = testing::draw_measurements(
       Eigen::VectorXd::Constant(300, 26.0), 2500.0, [](double t) { return 0.5 * t; },
-      calibration->model.noise, 6);
+      calibration->model.mixture, 6);
   int changes = 0;
   ipc::CompensatedScan out;
   for (Eigen::Index k = 0; k < 800; ++k) {
@@ -163,7 +163,7 @@ TEST(ScanCompensator, FlagsAChangeOfScene) {
 TEST(ScanCompensator, RefusesWhatItCannotUse) {
   ScanCompensator compensator;
   core::Calibration five = testing::round_calibration();
-  five.model.noise =
+  five.model.mixture =
       testing::mixture({-4.0, -2.0, 0.0, 2.0, 4.0}, {1, 1, 1, 1, 1}, {0.2, 0.2, 0.2, 0.2, 0.2});
   EXPECT_THROW(compensator.set_calibration(std::make_shared<core::Calibration>(five), 1),
                core::InvalidInput);
@@ -186,7 +186,7 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
     x.effect = effect;
     x.covariate = covariate;
     x.covariate_mm = gamma;
-    x.noise = core::without_extensions(c->model.noise);
+    x.extended_mixture = core::without_extensions(c->model.mixture);
     c->extension = x;
     return c;
   };
@@ -229,13 +229,13 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
   }
   {
     auto c = with_extension(core::EffectKind::Outliers, core::Covariate::None, 0.0);
-    c->extension->noise.outlier_weight = 0.02;
-    c->extension->noise.outlier_density = 1.0 / 200.0;
+    c->extension->extended_mixture.outlier_weight = 0.02;
+    c->extension->extended_mixture.outlier_density = 1.0 / 200.0;
     ScanCompensator compensator(incremental());
     compensator.set_calibration(c, 1);
     const auto wall = testing::draw_measurements(
         Eigen::VectorXd::Constant(300, 26.0), 3000.0, [](double t) { return 0.5 * t; },
-        c->model.noise, 5);
+        c->model.mixture, 5);
     ipc::CompensatedScan out;
     int flagged = 0;
     for (Eigen::Index k = 0; k < 300; ++k) {
@@ -253,7 +253,7 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
   // An invalid extension is refused and the old calibration stays.
   ScanCompensator compensator(incremental());
   auto bad = with_extension(core::EffectKind::ModePersistence, core::Covariate::None, 0.0);
-  bad->extension->noise.transition = Eigen::MatrixXd::Constant(2, 2, 0.7);
+  bad->extension->extended_mixture.transition = Eigen::MatrixXd::Constant(2, 2, 0.7);
   EXPECT_THROW(compensator.set_calibration(bad, 1), core::InvalidInput);
   EXPECT_EQ(compensator.calibration(), nullptr);
 }

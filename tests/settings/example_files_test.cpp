@@ -54,7 +54,7 @@ TEST(ExampleFiles, DefaultHoldsTheValuesWrittenInIt) {
   EXPECT_FALSE(c.power.sense);
 
   EXPECT_EQ(c.calibration.file, kConfigDir / "calibration.yaml");
-  EXPECT_EQ(c.calibration.noise, ThermalNoiseOverrides{});
+  EXPECT_EQ(c.calibration.kalman_noise, ThermalNoiseOverrides{});
   EXPECT_FALSE(c.calibration.ambient_c);
 
   EXPECT_EQ(c.compensation.window.window, 200);

@@ -281,9 +281,9 @@ TEST(DaemonEndToEnd, CompensatesWithACalibrationsExtension) {
   core::Calibration extended = io::read_calibration_file(root + "/config/calibration.yaml");
   core::ModelExtension extension;
   extension.effect = core::EffectKind::Outliers;
-  extension.noise = core::without_extensions(extended.model.noise);
-  extension.noise.outlier_weight = 0.02;
-  extension.noise.outlier_density = 1.0 / 200.0;
+  extension.extended_mixture = core::without_extensions(extended.model.mixture);
+  extension.extended_mixture.outlier_weight = 0.02;
+  extension.extended_mixture.outlier_density = 1.0 / 200.0;
   extended.extension = extension;
   io::write_calibration_file((dir.path() / "extended.yaml").string(), extended);
   const std::string shm = "/tofcomp-e2e-ext-" + std::to_string(::getpid());
