@@ -12,6 +12,11 @@ constexpr double kThermalShare = 0.1;
 constexpr double kNoiseShare = 0.2;
 constexpr double kSearchShare = 0.9;
 
+constexpr const char* kKalmanNoiseMethod = "innovations' likelihood (core/kalman_noise_fit.hpp)";
+constexpr const char* kStructureMethod =
+    "held-out log-likelihood on interleaved folds, one-standard-error rule "
+    "(core/structure_search.hpp)";
+
 void report(const TrainingProgress& progress, double share, const std::string& stage) {
   if (progress) progress(share, stage);
 }
@@ -32,6 +37,38 @@ core::StructureChoice choose_structure(const TrainSettings& settings,
                                                                      (1.0 - 1.0 / (1.0 + visited / 8.0)),
                                          "structure: " + e.name);
                                 });
+}
+
+// The choices' evidence as the calibration keeps it.
+core::TrainingChoices record_choices(const Training& t) {
+  core::TrainingChoices choices;
+  if (t.kalman_noise_fit) {
+    core::KalmanNoiseRecord noise;
+    noise.method = kKalmanNoiseMethod;
+    for (const core::KalmanNoiseLevel level : core::kKalmanNoiseLevels) {
+      if (t.kalman_noise_fit->levels[static_cast<std::size_t>(level)].held) {
+        noise.held.emplace_back(core::kalman_noise_level_key(level));
+      }
+    }
+    choices.kalman_noise = noise;
+  }
+  if (t.structure) {
+    const core::StructureChoice& s = *t.structure;
+    auto name = [&](int index) { return s.candidates[static_cast<std::size_t>(index)].name; };
+    core::StructureRecord record;
+    record.method = kStructureMethod;
+    record.chosen = name(s.chosen);
+    record.best_by_glr = name(s.best_by_glr);
+    record.best_by_bic = name(s.best_by_bic);
+    for (const core::CandidateEvidence& e : s.candidates) {
+      if (e.ok) {
+        record.candidates.push_back(
+            {e.name, e.parameters, e.held_out_log_likelihood, e.glr, e.bic});
+      }
+    }
+    choices.structure = record;
+  }
+  return choices;
 }
 
 }  // namespace
@@ -92,6 +129,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   c.provenance.notes = "beam " + std::to_string(data.beam) + "; EM " +
                        std::to_string(t.em.iterations) + " iterations" +
                        (t.em.converged ? "" : " (iteration cap reached)");
+  c.choices = record_choices(t);
   report(progress, 1.0, "done");
   return t;
 }

@@ -5,9 +5,7 @@
 namespace tofcomp::cli {
 namespace {
 
-constexpr std::array<core::KalmanNoiseLevel, core::kKalmanNoiseLevelCount> kLevels = {
-    core::KalmanNoiseLevel::kCaseProcess, core::KalmanNoiseLevel::kJunctionProcess,
-    core::KalmanNoiseLevel::kSensor};
+constexpr const auto& kLevels = core::kKalmanNoiseLevels;
 constexpr std::array<const char*, core::kKalmanNoiseLevelCount> kLevelKeys = {
     "case_process_psd_k2_per_s", "junction_process_psd_k2_per_s", "measurement_variance_k2"};
 

@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/extended_mixture.hpp"
 #include "core/kalman.hpp"
@@ -24,6 +25,32 @@ struct Provenance {
   std::string notes;
 };
 
+// What training chose from the data where the paper leaves the choice to the designer, and the
+// evidence for it (calibration/training.hpp): kept with the calibration, so that a file says why
+// it has the structure it has. Each part is absent when the user gave that choice.
+struct CandidateRecord {
+  std::string name;  // e.g. "polynomial(6, legendre), 3 modes"
+  int parameters = 0;
+  double held_out_log_likelihood = 0.0;  // per held-out range
+  double glr = 0.0;                      // Algorithm 2
+  double bic = 0.0;
+};
+struct StructureRecord {
+  std::string method;  // how the choice was made
+  std::string chosen;  // the chosen candidate's name
+  std::string best_by_glr;
+  std::string best_by_bic;
+  std::vector<CandidateRecord> candidates;  // those that could be trained
+};
+struct KalmanNoiseRecord {
+  std::string method;
+  std::vector<std::string> held;  // the levels the data did not determine, kept at their prior
+};
+struct TrainingChoices {
+  std::optional<KalmanNoiseRecord> kalman_noise;
+  std::optional<StructureRecord> structure;
+};
+
 struct Calibration {
   ThermalParameters thermal{};
   ThermalNoise kalman_noise;  // the noise levels of the junction-temperature Kalman filter (§3.3)
@@ -33,6 +60,7 @@ struct Calibration {
   // model.mixture wherever ranges are compensated. Absent: the paper's model.
   std::optional<ModelExtension> extension;
   Provenance provenance;
+  TrainingChoices choices;
 };
 
 // The mixture of Eq. 8 that ranges are compensated under: the extension's when the calibration

@@ -95,6 +95,18 @@ const char* kalman_noise_level_name(KalmanNoiseLevel level) {
   return "sensor noise r";
 }
 
+const char* kalman_noise_level_key(KalmanNoiseLevel level) {
+  switch (level) {
+    case KalmanNoiseLevel::kCaseProcess:
+      return "case_process";
+    case KalmanNoiseLevel::kJunctionProcess:
+      return "junction_process";
+    case KalmanNoiseLevel::kSensor:
+      break;
+  }
+  return "sensor";
+}
+
 double innovations_log_likelihood(const CaseTemperatureLog& log,
                                   const ThermalParameters& parameters, const ThermalNoise& noise,
                                   const NoiseFitOptions& options) {

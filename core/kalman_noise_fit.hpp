@@ -25,8 +25,11 @@ namespace tofcomp::core {
 
 enum class KalmanNoiseLevel { kCaseProcess = 0, kJunctionProcess = 1, kSensor = 2 };
 inline constexpr int kKalmanNoiseLevelCount = 3;
-// "case process noise q_c", ...
+inline constexpr std::array<KalmanNoiseLevel, kKalmanNoiseLevelCount> kKalmanNoiseLevels = {
+    KalmanNoiseLevel::kCaseProcess, KalmanNoiseLevel::kJunctionProcess, KalmanNoiseLevel::kSensor};
+// "case process noise q_c", ... for people; "case_process", ... for files.
 const char* kalman_noise_level_name(KalmanNoiseLevel level);
+const char* kalman_noise_level_key(KalmanNoiseLevel level);
 
 struct NoiseFitOptions {
   // Brackets of each level, as powers of ten (K²/s for q_c and q_j, K² for r).

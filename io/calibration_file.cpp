@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/training_choices_yaml.hpp"
 #include "io/yaml_fields.hpp"
 
 namespace tofcomp::io {
@@ -279,6 +280,7 @@ std::string calibration_to_yaml(const core::Calibration& c) {
   }
   out << YAML::EndMap;
   if (c.extension) emit_extension(out, *c.extension, c.model.mixture);
+  emit_training_choices(out, c.choices);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -291,7 +293,8 @@ core::Calibration read_calibration_file(const std::string& file) {
   try {
     const YAML::Node root = load_yaml_file(file);
     const YamlMap top(root, "",
-                      {"schema", "version", "provenance", "thermal", "measurement", "extension"});
+                      {"schema", "version", "provenance", "thermal", "measurement", "extension",
+                       "choices"});
     if (top.text("schema") != kCalibrationSchema) {
       top.fail("schema",
                std::string("must be ") + kCalibrationSchema + ", not '" + top.text("schema") + "'");
@@ -359,6 +362,7 @@ core::Calibration read_calibration_file(const std::string& file) {
       throw YamlSchemaError(std::string("measurement: ") + e.what());
     }
     if (top.has("extension")) c.extension = read_extension(top, c.model.mixture);
+    c.choices = read_training_choices(top);
     return c;
   } catch (const YamlSchemaError& e) {
     const std::string what = e.what();

@@ -118,6 +118,42 @@ TEST(CalibrationFile, ErrorsNameTheFileAndKey) {
   EXPECT_EQ(message.rfind(temp_file("broken.yaml"), 0), 0u) << message;
 }
 
+// What training chose from the data, and its evidence, survive the file; a file without the
+// section (written before it existed, or with every choice given) reads as no choice made.
+TEST(CalibrationFile, TrainingChoicesRoundTrip) {
+  const std::string file = temp_file("calibration-choices.yaml");
+  core::Calibration c = example();
+  write_calibration_file(file, c);
+  EXPECT_EQ(read_all(file).find("choices"), std::string::npos);
+  EXPECT_FALSE(read_calibration_file(file).choices.structure.has_value());
+  c.choices.kalman_noise = core::KalmanNoiseRecord{"innovations", {"junction_process"}};
+  c.choices.structure = core::StructureRecord{
+      "held-out", "polynomial(3, legendre), 2 modes", "polynomial(9, legendre), 2 modes",
+      "polynomial(4, legendre), 2 modes",
+      {{"polynomial(3, legendre), 2 modes", 8, -2.25, 35853.5, 435836.25},
+       {"polynomial(9, legendre), 2 modes", 14, -2.2501, 35900.0, 435900.0}}};
+  write_calibration_file(file, c);
+  const core::Calibration back = read_calibration_file(file);
+  ASSERT_TRUE(back.choices.kalman_noise && back.choices.structure);
+  EXPECT_EQ(back.choices.kalman_noise->held, std::vector<std::string>{"junction_process"});
+  const core::StructureRecord& s = *back.choices.structure;
+  EXPECT_EQ(s.chosen, "polynomial(3, legendre), 2 modes");
+  EXPECT_EQ(s.best_by_bic, "polynomial(4, legendre), 2 modes");
+  ASSERT_EQ(s.candidates.size(), 2u);
+  EXPECT_EQ(s.candidates[1].parameters, 14);
+  EXPECT_EQ(s.candidates[0].bic, 435836.25);
+  const std::string broken = replaced(read_all(file), "parameters: 14", "parameters: fourteen");
+  std::ofstream(file) << broken;
+  try {
+    read_calibration_file(file);
+    ADD_FAILURE() << "a broken candidate was read";
+  } catch (const YamlSchemaError& e) {
+    EXPECT_NE(std::string(e.what()).find("choices.structure.candidates[1].parameters"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // Every part an extension can hold survives the file exactly.
 TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   core::Calibration c = example();
