@@ -13,6 +13,11 @@
 
 namespace tofcomp::calibration {
 
+// The LMS 200 reports whole millimetres: the rounding the Cramér–Rao bound accounts for, and
+// the reason no lasing mode is narrower than the rounding's own spread (training's variance
+// floor, calibration/training.hpp).
+inline constexpr double kRangeResolutionMm = 1.0;
+
 struct MeasuredData {
   std::string source;  // file name, for messages and provenance
   int beam = 0;

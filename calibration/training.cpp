@@ -1,5 +1,7 @@
 #include "calibration/training.hpp"
 
+#include <algorithm>
+
 #include "calibration/basis_spec.hpp"
 #include "io/utc_time.hpp"
 #include "io/version.hpp"
@@ -11,6 +13,10 @@ namespace {
 constexpr double kThermalShare = 0.1;
 constexpr double kNoiseShare = 0.2;
 constexpr double kSearchShare = 0.9;
+
+// The paper's structure (§8), kept when a record is too short to choose one.
+constexpr const char* kPaperBasis = "polynomial:4";
+constexpr int kPaperModes = 2;
 
 constexpr const char* kKalmanNoiseMethod = "innovations' likelihood (core/kalman_noise_fit.hpp)";
 constexpr const char* kStructureMethod =
@@ -51,6 +57,12 @@ core::TrainingChoices record_choices(const Training& t) {
       }
     }
     choices.kalman_noise = noise;
+  }
+  if (t.structure_not_chosen) {
+    core::StructureRecord record;
+    record.method =
+        "not chosen: too few ranges to judge candidates on; the paper's structure (§8)";
+    choices.structure = record;
   }
   if (t.structure) {
     const core::StructureChoice& s = *t.structure;
@@ -93,14 +105,27 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   t.junction = junction_at_ranges(data, thermal, noise, settings.thermal.ambient_fallback_c);
   const Eigen::VectorXd y_minus_d = data.range_mm - data.true_range_mm;
 
+  // Ranges rounded to whole millimetres carry the rounding's variance h²/12 (Sheppard) in every
+  // mode: a mode narrower than that is the rounding's lattice, not a lasing mode, and left free
+  // EM would lock a mode onto one rounded value (the likelihood of rounded data is unbounded).
+  const double rounding_variance = kRangeResolutionMm * kRangeResolutionMm / 12.0;
   core::EmTrainOptions em = settings.em;
+  em.variance_floor = std::max(em.variance_floor, rounding_variance);
+  TrainSettings search_settings = settings;
+  search_settings.search.em.variance_floor =
+      std::max(search_settings.search.em.variance_floor, rounding_variance);
+  search_settings.search.resolution = kRangeResolutionMm;
   core::Basis basis;
-  if (settings.basis && settings.modes) {
-    basis = parse_basis(*settings.basis, t.junction.junction_c);
-    em.modes = *settings.modes;
+  const bool too_few_to_choose = y_minus_d.size() < core::minimum_ranges_for_search(settings.search);
+  if ((settings.basis && settings.modes) || too_few_to_choose) {
+    // Given, or too few ranges to judge candidates on: the paper's structure (§8) for what was
+    // not given.
+    basis = parse_basis(settings.basis.value_or(kPaperBasis), t.junction.junction_c);
+    em.modes = settings.modes.value_or(kPaperModes);
+    t.structure_not_chosen = too_few_to_choose && !(settings.basis && settings.modes);
   } else {
     report(progress, kNoiseShare, "structure of Eq. 8");
-    t.structure = choose_structure(settings, t.junction.junction_c, y_minus_d, progress);
+    t.structure = choose_structure(search_settings, t.junction.junction_c, y_minus_d, progress);
     basis = t.structure->basis;
     em.modes = t.structure->modes;
     // The final fit starts where the search's (looser) fit of the chosen candidate ended, unless

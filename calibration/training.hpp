@@ -37,6 +37,7 @@ struct Training {
   std::optional<core::KalmanNoiseFit> kalman_noise_fit;  // when the levels were chosen from the log
   SmoothedJunction junction;
   std::optional<core::StructureChoice> structure;  // when basis or modes were chosen
+  bool structure_not_chosen = false;  // asked for, but too few ranges: the paper's structure
   core::EmTrainResult em;
 };
 

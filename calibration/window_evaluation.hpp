@@ -13,9 +13,6 @@
 
 namespace tofcomp::calibration {
 
-// The LMS 200 reports whole millimetres: the rounding the Cramér–Rao bound accounts for.
-inline constexpr double kRangeResolutionMm = 1.0;
-
 struct WindowEvaluation {
   Eigen::Index window = 0;
   // The Cramér–Rao bound of d for this window length as a mean absolute error

@@ -120,8 +120,14 @@ std::string choices_text(const calibration::Training& training) {
   std::string out;
   out += training.kalman_noise_fit ? kalman_noise_text(*training.kalman_noise_fit)
                                : "junction filter noise (§3.3): as given (--kalman-noise)\n";
-  out += training.structure ? structure_text(*training.structure)
-                            : "structure of Eq. 8: as given (--basis, --modes)\n";
+  if (training.structure) {
+    out += structure_text(*training.structure);
+  } else if (training.structure_not_chosen) {
+    out += "structure of Eq. 8: too few ranges to judge candidates on; the paper's (§8) for what "
+           "was not given\n";
+  } else {
+    out += "structure of Eq. 8: as given (--basis, --modes)\n";
+  }
   return out;
 }
 

@@ -27,6 +27,15 @@ void log_joint(const Eigen::Ref<const Eigen::VectorXd>& residual, const MixtureP
   }
 }
 
+// P(a ≤ Z < b) for a standard normal Z, from the tail on the side of the interval, so that an
+// interval far out in a tail keeps its relative accuracy.
+double standard_normal_interval(double a, double b) {
+  const auto upper_tail = [](double z) { return 0.5 * std::erfc(z / std::numbers::sqrt2); };
+  if (a >= 0.0) return upper_tail(a) - upper_tail(b);
+  if (b <= 0.0) return upper_tail(-b) - upper_tail(-a);
+  return 1.0 - upper_tail(b) - upper_tail(-a);
+}
+
 }  // namespace
 
 void MixtureParameters::validate() const {
@@ -86,6 +95,29 @@ Eigen::VectorXd mixture_log_densities(const Eigen::Ref<const Eigen::VectorXd>& r
     throw NumericalError(
         "mixture log-density is not finite: a residual is not finite or every mode has zero "
         "weight");
+  }
+  return out;
+}
+
+Eigen::VectorXd rounded_mixture_log_probabilities(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                                  const MixtureParameters& mixture,
+                                                  double resolution) {
+  require_positive(resolution, "the ranges' resolution");
+  const Eigen::VectorXd density = mixture_log_densities(residual, mixture);
+  Eigen::VectorXd out(residual.size());
+  const double half = 0.5 * resolution;
+  for (Eigen::Index k = 0; k < residual.size(); ++k) {
+    double probability = 0.0;
+    for (int i = 0; i < mixture.modes(); ++i) {
+      const double sigma = std::sqrt(mixture.variance[i]);
+      probability += mixture.weight[i] *
+                     standard_normal_interval((residual[k] - half - mixture.mean[i]) / sigma,
+                                              (residual[k] + half - mixture.mean[i]) / sigma);
+    }
+    // Beyond the reach of double precision in every mode's tail: the density times the
+    // interval's width, which is what the probability tends to there.
+    out[k] = probability > std::numeric_limits<double>::min() ? std::log(probability)
+                                                               : density[k] + std::log(resolution);
   }
   return out;
 }

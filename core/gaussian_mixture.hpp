@@ -32,6 +32,15 @@ double mixture_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
 Eigen::VectorXd mixture_log_densities(const Eigen::Ref<const Eigen::VectorXd>& residual,
                                       const MixtureParameters& mixture);
 
+// For ranges rounded to a resolution h (the LMS 200 reports whole millimetres): the log of the
+// probability of each rounded value, log Σ_i π_i [Φ((e_k + h/2 − μ_i)/σ_i) − Φ((e_k − h/2 − μ_i)/σ_i)],
+// the likelihood rounded data really have. Unlike the density, it is bounded: a mode locked
+// onto one rounded value gains nothing a true mode would not (the held-out score of
+// core/structure_search.hpp). Tails are taken on the side where they are accurate.
+Eigen::VectorXd rounded_mixture_log_probabilities(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                                  const MixtureParameters& mixture,
+                                                  double resolution);
+
 // Σ_k log Σ_i π_i N(e_k − μ_i, σ_i²), without keeping the responsibilities.
 double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,
                               const MixtureParameters& mixture);

@@ -18,7 +18,9 @@ namespace {
 
 constexpr int kPaperModes = 2;
 // A fold smaller than this is too small to score a candidate on.
-constexpr Eigen::Index kMinimumRangesPerFold = 100;
+constexpr Eigen::Index kMinimumRangesPerFold = 20;
+// A fold gets at least this many blocks: on a short record the blocks shrink to keep it.
+constexpr Eigen::Index kMinimumBlocksPerFold = 10;
 // The search's EM stopping rule: loose enough to be quick, tight enough that the held-out
 // log-likelihoods it compares (differences of ~1e-4 per range matter) have settled.
 constexpr double kSearchLogLikelihoodTolerance = 1e-8;
@@ -37,14 +39,16 @@ class Search {
         y_(y),
         options_(options),
         progress_(progress),
-        scaling_(TemperatureScaling::spanning(temperature)) {
+        scaling_(TemperatureScaling::spanning(temperature)),
+        block_(std::clamp(y.size() / (options.folds * kMinimumBlocksPerFold), Eigen::Index{1},
+                          options.block)) {
     const double span = temperature.maxCoeff() - temperature.minCoeff();
     fourier_f0_per_c_ = 1.0 / (2.0 * std::max(span, 2.0 * scaling_.half_range_c));
     // Each fold's training rows, and its held-out rows inside the temperatures they span.
     train_rows_.resize(static_cast<std::size_t>(options.folds));
     held_rows_.resize(static_cast<std::size_t>(options.folds));
     for (Eigen::Index k = 0; k < y.size(); ++k) {
-      const auto fold = static_cast<std::size_t>((k / options.block) % options.folds);
+      const auto fold = static_cast<std::size_t>((k / block_) % options.folds);
       for (std::size_t f = 0; f < train_rows_.size(); ++f) {
         if (f != fold) train_rows_[f].push_back(k);
       }
@@ -53,12 +57,12 @@ class Search {
       const Eigen::VectorXd train_t = temperature(train_rows_[f]);
       const TemperatureRange trained{train_t.minCoeff(), train_t.maxCoeff()};
       for (Eigen::Index k = 0; k < y.size(); ++k) {
-        const auto fold = static_cast<std::size_t>((k / options.block) % options.folds);
+        const auto fold = static_cast<std::size_t>((k / block_) % options.folds);
         if (fold == f && trained.contains(temperature[k])) held_rows_[f].push_back(k);
       }
       held_out_count_ += static_cast<Eigen::Index>(held_rows_[f].size());
       for (const Eigen::Index k : held_rows_[f]) {
-        block_slot_.emplace(k / options.block, block_slot_.size());
+        block_slot_.emplace(k / block_, block_slot_.size());
       }
     }
   }
@@ -236,9 +240,12 @@ class Search {
       const std::vector<Eigen::Index>& held_rows = held_rows_[f];
       const EmTrainResult fit = train_em(h(train_rows, Eigen::all), y_(train_rows), em);
       const Eigen::VectorXd residual = y_(held_rows) - h(held_rows, Eigen::all) * fit.theta;
-      const Eigen::VectorXd log_density = mixture_log_densities(residual, fit.mixture);
+      const Eigen::VectorXd log_density =
+          options_.resolution > 0.0
+              ? rounded_mixture_log_probabilities(residual, fit.mixture, options_.resolution)
+              : mixture_log_densities(residual, fit.mixture);
       for (std::size_t i = 0; i < held_rows.size(); ++i) {
-        by_block[block_slot_.at(held_rows[i] / options_.block)] +=
+        by_block[block_slot_.at(held_rows[i] / block_)] +=
             log_density[static_cast<Eigen::Index>(i)];
       }
     }
@@ -250,6 +257,7 @@ class Search {
   const StructureSearchOptions& options_;
   const SearchProgress& progress_;
   TemperatureScaling scaling_;
+  Eigen::Index block_;  // options.block, or less on a short record
   double fourier_f0_per_c_ = 0.0;
   std::vector<std::vector<Eigen::Index>> train_rows_, held_rows_;  // per fold
   Eigen::Index held_out_count_ = 0;
@@ -261,6 +269,10 @@ class Search {
 };
 
 }  // namespace
+
+Eigen::Index minimum_ranges_for_search(const StructureSearchOptions& options) {
+  return options.folds * kMinimumRangesPerFold;
+}
 
 EmTrainOptions StructureSearchOptions::search_em_options() {
   EmTrainOptions em;
@@ -287,11 +299,10 @@ StructureChoice search_structure(const Eigen::Ref<const Eigen::VectorXd>& juncti
         "mode count >= 1, and max_fourier_order >= 0");
   }
   if (options.block < 1) throw InvalidInput("the structure search needs a block of >= 1 range");
-  if (y_minus_d.size() < options.folds * std::max(kMinimumRangesPerFold, options.block)) {
+  if (y_minus_d.size() < minimum_ranges_for_search(options)) {
     std::ostringstream msg;
-    msg << "the structure search needs at least one block of "
-        << std::max(kMinimumRangesPerFold, options.block) << " ranges per fold ("
-        << options.folds * std::max(kMinimumRangesPerFold, options.block) << " for "
+    msg << "the structure search needs at least " << kMinimumRangesPerFold
+        << " ranges per fold (" << minimum_ranges_for_search(options) << " for "
         << options.folds << " folds); found " << y_minus_d.size();
     throw InvalidInput(msg.str());
   }

@@ -41,7 +41,12 @@ namespace tofcomp::core {
 
 struct StructureSearchOptions {
   int folds = 5;
-  Eigen::Index block = 200;  // consecutive ranges dealt to one fold
+  // The ranges' rounding (mm; the LMS 200: 1). Held-out ranges are scored by the probability of
+  // their rounded value (core::rounded_mixture_log_probabilities), which a mode locked onto the
+  // rounding's lattice cannot inflate; 0: by the density, for unrounded data.
+  double resolution = 0.0;
+  // Consecutive ranges dealt to one fold; fewer on a record too short to give each fold ten.
+  Eigen::Index block = 200;
   int max_polynomial_order = 16;
   int max_fourier_order = 8;
   int max_modes = 4;
@@ -89,6 +94,10 @@ struct StructureChoice {
   int modes = 0;
   EmTrainResult fit;  // the chosen candidate's fit on the whole training set
 };
+
+// The fewest ranges the search judges candidates on (folds × 20); below it training keeps the
+// paper's structure (calibration/training.hpp).
+Eigen::Index minimum_ranges_for_search(const StructureSearchOptions& options);
 
 using SearchProgress = std::function<void(const CandidateEvidence&)>;
 

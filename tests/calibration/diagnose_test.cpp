@@ -26,9 +26,18 @@ MeasuredData scenario_data(const sim::Scenario& scenario) {
   return read_measured_data(file, 0, warnings);
 }
 
+// The paper's structure as §8 prints it (an order-4 polynomial, two modes, the LMS 200 filter
+// levels), fixed rather than chosen from the data: these tests judge the residual tests and the
+// extensions against Eq. 8 as printed. Chosen from the data, a flexible basis takes in what the
+// twin's equal power cycles make a function of the temperature (the heating rate while ranging,
+// the time since power-on) and a third mode takes in an extra mode, so that those effects are
+// no longer beyond the model (docs/closing-the-loop.md).
 TrainSettings datasheet_settings() {
   TrainSettings settings;
   settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.basis = "polynomial:4";
+  settings.modes = 2;
+  settings.kalman_noise = core::ThermalNoise{};
   return settings;
 }
 
