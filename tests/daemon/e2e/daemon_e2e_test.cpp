@@ -237,11 +237,16 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
   ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
   ASSERT_TRUE(
       subscriber.request({{"op", "subscribe"}, {"beams", {180, 180}}}, 10s).value("ok", false));
+  // A scan under the first calibration before the recalibration starts, so that the swap has
+  // scans on both sides however fast the training is.
+  const auto before = subscriber.read_message(30s);
+  ASSERT_TRUE(before.has_value()) << daemon.log();
+  ASSERT_EQ(scan_of(*before).at("calibration_id").get<int>(), 1);
   ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
   const nlohmann::json started = client.request({{"op", "recalibrate"}}, 10s);
   ASSERT_TRUE(started.value("ok", false)) << started.dump();
 
-  std::optional<std::uint64_t> previous;
+  std::optional<std::uint64_t> previous = scan_of(*before).at("sequence").get<std::uint64_t>();
   std::uint64_t first_new = 0;
   for (const auto until = std::chrono::steady_clock::now() + 120s;
        std::chrono::steady_clock::now() < until;) {
