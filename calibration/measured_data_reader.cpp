@@ -1,6 +1,6 @@
 #include "calibration/measured_data_reader.hpp"
 
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "io/measurement_series.hpp"
 #include "io/measurement_table_builder.hpp"
 
@@ -8,7 +8,7 @@ namespace tofcomp::calibration {
 
 MeasuredData read_measured_data(const std::string& file, int beam,
                                 std::vector<std::string>& warnings) {
-  const io::MeasurementTable table = io::read_measurements_file(file);
+  const io::MeasurementTable table = io::read_measured_data_file(file);
   warnings.insert(warnings.end(), table.warnings.begin(), table.warnings.end());
   MeasuredData data;
   data.source = file;

@@ -1,4 +1,4 @@
-// From the interchange CSV (io/measurement_csv.hpp, ../shared/docs/data-format.md) to the
+// From the interchange CSV (io/measured_data_csv.hpp, ../shared/docs/data-format.md) to the
 // analyses' MeasuredData.
 #pragma once
 

@@ -1,6 +1,7 @@
 // tofcomp diagnose DATA --datasheet D.yaml [--calibration C.yaml]: finds in the residuals of a
 // trained model what Eq. 8 lacks (core/residual_diagnosis.hpp), ranks the findings, fits the
-// extension for the effect named first and judges it on held-out data (calibration/model_extension.hpp).
+// extension for the effect named first and judges it on held-out data
+// (calibration/model_extension.hpp).
 #include <fmt/format.h>
 
 #include "calibration/diagnosis.hpp"
@@ -54,7 +55,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
           result.text = diagnosis_text(d);
           if (d.findings.empty() || !d.findings.front().significant) {
             progress.done();
-            report->write_if_requested(measured, training->settings(), result.json, c, lengths,
+            report->write_if_requested(measured, training->settings(), result.json, c, d, lengths,
                                        !common.quiet);
             return result;
           }
@@ -72,7 +73,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
             io::write_calibration_file(*calibration_out, e.calibration);
             result.text += fmt::format("extended calibration written to {}\n", *calibration_out);
           }
-          report->write_if_requested(measured, training->settings(), result.json, c, lengths,
+          report->write_if_requested(measured, training->settings(), result.json, c, d, lengths,
                                      !common.quiet);
           return result;
         };

@@ -7,7 +7,7 @@
 #include <ctime>
 
 #include "cli/command.hpp"
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "sim/lms200/emulator.hpp"
 #include "sim/scenario_yaml.hpp"
 
@@ -61,7 +61,7 @@ CommandResult emulate(const EmulateOptions& o, const CommonOptions& common) {
   settings.link = o.link;
   settings.identity.supports_500k = !o.rs232;
   if (!o.recording.empty()) {
-    settings.recording = io::read_measurements_file(o.recording);
+    settings.recording = io::read_measured_data_file(o.recording);
     settings.recording_source = o.recording;
   }
   StopSignal stop;

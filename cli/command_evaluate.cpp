@@ -13,10 +13,10 @@
 namespace tofcomp::cli {
 
 void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
-  auto* cmd =
-      app.add_subcommand("evaluate",
-                         "Train on the first part of a data set, test on the rest, and print the "
-                         "error before and after compensation per window length (§8)");
+  auto* cmd = app.add_subcommand(
+      "evaluate",
+      "Train on the first part of the measured data, test on the rest, and print the "
+      "error before and after compensation per window length (§8)");
   auto data = add_data_options(*cmd);
   auto training = add_training_options(*cmd);
   auto fraction = std::make_shared<double>(0.5);

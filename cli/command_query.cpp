@@ -4,16 +4,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <ctime>
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "cli/beam_range_option.hpp"
 #include "cli/command.hpp"
+#include "cli/scan_text.hpp"
 #include "core/error.hpp"
-#include "io/utc_time.hpp"
 #include "ipc/socket/client.hpp"
 #include "ipc/socket/protocol_error.hpp"
+#include "ipc/socket/scan_json.hpp"
 #include "ipc/socket/subscription.hpp"
 
 namespace tofcomp::cli {
@@ -32,78 +33,14 @@ struct QueryOptions {
   unsigned every = 1;
 };
 
-std::optional<ipcs::BeamRange> parse_beams(const std::string& text) {
-  if (text.empty()) return std::nullopt;
-  const auto bad = [&] {
-    return core::InvalidInput("--beams '" + text +
-                              "': expected FIRST:LAST (beam indices, e.g. 0:360) or one index");
-  };
-  const auto index = [&](const std::string& part) {
-    if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos ||
-        part.size() > 5) {
-      throw bad();
-    }
-    const unsigned long value = std::stoul(part);
-    if (value > ipcs::kMaxBeamIndex) throw bad();
-    return static_cast<std::uint32_t>(value);
-  };
-  const auto colon = text.find(':');
-  const std::uint32_t first = index(text.substr(0, colon));
-  const std::uint32_t last = colon == std::string::npos ? first : index(text.substr(colon + 1));
-  if (first > last) throw bad();
-  return ipcs::BeamRange{first, last};
-}
-
 std::chrono::milliseconds timeout_of(const QueryOptions& o) {
   return std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(o.timeout_s * 1000.0)));
 }
 
-// A number of the reply, or "-" for null (a value that does not exist).
-std::string number(const json& value, const char* format) {
-  if (!value.is_number()) return "-";
-  char text[48];
-  std::snprintf(text, sizeof text, format, value.get<double>());
-  return text;
-}
-
-// The scan as a header line and a table of its beams.
-std::string scan_text(const json& scan) {
-  const std::size_t shown = scan.at("beams").size();
-  const std::size_t first = scan.at("first_beam").get<std::size_t>();
-  std::string text =
-      "scan " + scan.at("sequence").dump() + " (device " + scan.at("device_sequence").dump() +
-      ") at " + io::utc_timestamp(scan.at("timestamp_ns").get<std::int64_t>(), 3) + "; junction " +
-      number(scan.at("junction_c"), "%.2f") + " ± " + number(scan.at("junction_std_c"), "%.2f") +
-      " °C, case " + number(scan.at("case_c"), "%.2f") + " °C; calibration " +
-      scan.at("calibration_id").dump() + "; beams " +
-      (shown == 0 ? std::string("none")
-                  : std::to_string(first) + ".." + std::to_string(first + shown - 1)) +
-      " of " + scan.at("beam_count").dump() + "\n";
-  text += " beam   angle°    raw mm   comp. mm  window mm   std mm  mode  flags\n";
-  const double start =
-      scan.at("start_angle_deg").is_number() ? scan["start_angle_deg"].get<double>() : 0.0;
-  const double step =
-      scan.at("resolution_deg").is_number() ? scan["resolution_deg"].get<double>() : 0.0;
-  for (const json& beam : scan.at("beams")) {
-    const auto index = beam.at("index").get<std::size_t>();
-    std::string flags;
-    for (const json& name : beam.at("flag_names")) {
-      flags += (flags.empty() ? "" : ",") + name.get<std::string>();
-    }
-    const std::string mode = beam.at("mode_count").get<int>() > 0
-                                 ? std::to_string(beam.at("most_probable_mode").get<int>())
-                                 : "-";
-    char row[200];
-    std::snprintf(row, sizeof row, "%5zu %8.2f %9s %10s %10s %8s %5s  %s\n", index,
-                  start + step * static_cast<double>(index),
-                  number(beam.at("raw_mm"), "%.1f").c_str(),
-                  number(beam.at("compensated_mm"), "%.2f").c_str(),
-                  number(beam.at("window_mm"), "%.2f").c_str(),
-                  number(beam.at("window_std_mm"), "%.2f").c_str(), mode.c_str(),
-                  flags.empty() ? "-" : flags.c_str());
-    text += row;
-  }
-  return text;
+// The scan object of a reply as text (cli/scan_text.hpp).
+std::string scan_text(const json& object) {
+  const ipcs::ReceivedScan received = ipcs::decode_scan(object);
+  return cli::scan_text(received.scan, received.span);
 }
 
 // A JSON object as "key: value" lines, nested objects as dotted keys.
@@ -132,7 +69,8 @@ json call(ipcs::SocketClient& client, json request, std::chrono::milliseconds ti
 json request_for(const QueryOptions& o, const std::string& op) {
   json request{{"op", op}};
   if (op == "latest") {
-    if (const auto beams = parse_beams(o.beams)) request["beams"] = {beams->first, beams->last};
+    if (const auto beams = parse_beam_range(o.beams))
+      request["beams"] = {beams->first, beams->last};
   }
   if (op == "recalibrate" && !o.args.empty()) {
     try {
@@ -167,7 +105,7 @@ CommandResult run_simple(const QueryOptions& o, const std::string& op) {
 }
 
 CommandResult run_subscribe(const QueryOptions& o, const CommonOptions& common) {
-  const auto beams = parse_beams(o.beams);
+  const auto beams = parse_beam_range(o.beams);
   const auto timeout = timeout_of(o);
   ipcs::SocketClient client(o.socket, timeout);
   std::optional<ipcs::ScanSubscription> subscription;

@@ -10,7 +10,7 @@
 
 #include "cli/command.hpp"
 #include "core/error.hpp"
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "realtime/recording_replay.hpp"
 #include "settings/daemon_config_yaml.hpp"
 #include "settings/embedded_default_config.hpp"
@@ -36,7 +36,7 @@ CommandResult replay(const ReplayOptions& o, const CommonOptions& common) {
   if (auto calibration = settings::read_configured_calibration(config)) {
     pipeline.set_calibration(std::move(calibration), 1);
   }
-  const io::MeasurementTable table = io::read_measurements_file(o.recording);
+  const io::MeasurementTable table = io::read_measured_data_file(o.recording);
   for (const auto& w : table.warnings) {
     if (!common.quiet) std::fprintf(stderr, "warning: %s\n", w.c_str());
   }

@@ -11,10 +11,12 @@
 #include <ctime>
 #include <thread>
 
+#include "cli/beam_range_option.hpp"
 #include "cli/command.hpp"
+#include "cli/scan_text.hpp"
 #include "core/error.hpp"
-#include "io/utc_time.hpp"
 #include "ipc/ring/ring_reader.hpp"
+#include "ipc/socket/scan_json.hpp"
 
 namespace tofcomp::cli {
 
@@ -28,33 +30,6 @@ struct ShmDumpOptions {
   int count = 0;  // 0: the newest scan, or with --follow every scan until stopped
   std::string beams;
 };
-
-// Beams first..last (inclusive) of each scan; the whole scan when not given.
-struct BeamRange {
-  std::size_t first = 0;
-  std::size_t last = static_cast<std::size_t>(-1);
-};
-
-BeamRange parse_beam_range(const std::string& text) {
-  if (text.empty()) return {};
-  const auto fail = [&] {
-    throw core::InvalidInput("--beams '" + text +
-                             "': expected FIRST:LAST, beam indices from 0 with FIRST <= LAST "
-                             "(e.g. 170:190)");
-  };
-  const auto colon = text.find(':');
-  if (colon == std::string::npos) fail();
-  const auto index = [&](const std::string& part) {
-    if (part.empty() || part.find_first_not_of("0123456789") != std::string::npos ||
-        part.size() > 9) {
-      fail();
-    }
-    return static_cast<std::size_t>(std::stoul(part));
-  };
-  const BeamRange range{index(text.substr(0, colon)), index(text.substr(colon + 1))};
-  if (range.first > range.last) fail();
-  return range;
-}
 
 // SIGINT and SIGTERM set a flag (restoring the previous handlers when done), so that --follow
 // ends its loop and the scans printed so far are summarised.
@@ -86,85 +61,16 @@ class StopOnSignal {
   struct sigaction previous_term_ {};
 };
 
-// NaN (a value that does not exist; the flags say why) as JSON null.
-nlohmann::json number_or_null(double value) {
-  return std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value);
+// The beams of the wanted range the scan has (none beyond it).
+ipc::socket::BeamSpan span_of(const ipc::CompensatedScan& scan,
+                              const std::optional<ipc::socket::BeamRange>& wanted) {
+  return ipc::socket::beams_clipped(wanted, scan.beams.size());
 }
 
-std::string format_or_dash(const char* format, double value) {
-  if (std::isnan(value)) return "-";
-  char text[48];
-  std::snprintf(text, sizeof text, format, value);
-  return text;
-}
-
-std::string joined(const std::vector<std::string>& names) {
-  if (names.empty()) return "-";
-  std::string text;
-  for (const auto& n : names) text += (text.empty() ? "" : ",") + n;
-  return text;
-}
-
-double beam_angle_deg(const ipc::CompensatedScan& scan, std::size_t beam) {
-  return scan.start_angle_deg + scan.resolution_deg * static_cast<double>(beam);
-}
-
-nlohmann::json scan_json(const ipc::CompensatedScan& scan, const BeamRange& range) {
-  nlohmann::json beams = nlohmann::json::array();
-  for (std::size_t b = range.first; b < scan.beams.size() && b <= range.last; ++b) {
-    const ipc::BeamValue& v = scan.beams[b];
-    beams.push_back({{"index", b},
-                     {"angle_deg", beam_angle_deg(scan, b)},
-                     {"raw_mm", number_or_null(v.raw_mm)},
-                     {"compensated_mm", number_or_null(v.compensated_mm)},
-                     {"window_mm", number_or_null(v.window_mm)},
-                     {"window_std_mm", number_or_null(v.window_std_mm)},
-                     {"mode_posterior", v.mode_posterior},
-                     {"mode_count", v.mode_count},
-                     {"most_probable_mode", v.most_probable_mode},
-                     {"flags", v.flags},
-                     {"flag_names", ipc::beam_flag_names(v.flags)}});
-  }
-  return {{"sequence", scan.sequence},
-          {"device_sequence", scan.device_sequence},
-          {"timestamp_ns", scan.timestamp_ns},
-          {"time", io::utc_timestamp(scan.timestamp_ns, io::kMaxFractionDigits)},
-          {"junction_c", number_or_null(scan.junction_c)},
-          {"junction_std_c", number_or_null(scan.junction_std_c)},
-          {"case_c", number_or_null(scan.case_c)},
-          {"calibration_id", scan.calibration_id},
-          {"start_angle_deg", scan.start_angle_deg},
-          {"resolution_deg", scan.resolution_deg},
-          {"beam_count", scan.beams.size()},
-          {"beams", beams}};
-}
-
-std::string scan_text(const ipc::CompensatedScan& scan, const BeamRange& range) {
-  char line[256];
-  std::snprintf(line, sizeof line,
-                "scan %llu (device %llu)  %s  junction %s ± %s °C  case %s °C  calibration %u  "
-                "%zu beams\n",
-                static_cast<unsigned long long>(scan.sequence),
-                static_cast<unsigned long long>(scan.device_sequence),
-                io::utc_timestamp(scan.timestamp_ns, io::kMaxFractionDigits).c_str(),
-                format_or_dash("%.2f", scan.junction_c).c_str(),
-                format_or_dash("%.2f", scan.junction_std_c).c_str(),
-                format_or_dash("%.2f", scan.case_c).c_str(), scan.calibration_id,
-                scan.beams.size());
-  std::string text = line;
-  if (range.first >= scan.beams.size()) return text;
-  text += "   beam  angle_deg     raw_mm  compensated_mm  window_mm  window_std_mm  flags\n";
-  for (std::size_t b = range.first; b < scan.beams.size() && b <= range.last; ++b) {
-    const ipc::BeamValue& v = scan.beams[b];
-    std::snprintf(line, sizeof line, "  %5zu  %9.2f  %9s  %14s  %9s  %13s  %s\n", b,
-                  beam_angle_deg(scan, b), format_or_dash("%.1f", v.raw_mm).c_str(),
-                  format_or_dash("%.2f", v.compensated_mm).c_str(),
-                  format_or_dash("%.2f", v.window_mm).c_str(),
-                  format_or_dash("%.3f", v.window_std_mm).c_str(),
-                  joined(ipc::beam_flag_names(v.flags)).c_str());
-    text += line;
-  }
-  return text;
+// The scan as the socket protocol's JSON object (ipc/socket/scan_json.hpp).
+nlohmann::json scan_json(const ipc::CompensatedScan& scan,
+                         const std::optional<ipc::socket::BeamRange>& wanted) {
+  return nlohmann::json::parse(ipc::socket::encode_scan(scan, span_of(scan, wanted)));
 }
 
 nlohmann::json ring_json(const ring::RingReader& reader) {
@@ -209,7 +115,7 @@ std::vector<ipc::CompensatedScan> newest_scans(ring::RingReader& reader, int cou
 }
 
 CommandResult dump_newest(ring::RingReader& reader, const ShmDumpOptions& o,
-                          const BeamRange& range) {
+                          const std::optional<ipc::socket::BeamRange>& range) {
   CommandResult result;
   result.json["ring"] = ring_json(reader);
   result.json["scans"] = nlohmann::json::array();
@@ -218,13 +124,14 @@ CommandResult dump_newest(ring::RingReader& reader, const ShmDumpOptions& o,
   if (scans.empty()) result.text += "no scan published yet\n";
   for (const auto& scan : scans) {
     result.json["scans"].push_back(scan_json(scan, range));
-    result.text += scan_text(scan, range);
+    result.text += scan_text(scan, span_of(scan, range));
   }
   return result;
 }
 
 // --follow: text goes out scan by scan; JSON is one document, printed when the command ends.
-CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o, const BeamRange& range,
+CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o,
+                     const std::optional<ipc::socket::BeamRange>& range,
                      const CommonOptions& common) {
   const StopOnSignal stop;
   CommandResult result;
@@ -263,7 +170,7 @@ CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o, const Be
       if (common.json) {
         result.json["scans"].push_back(scan_json(scan, range));
       } else {
-        std::fputs(scan_text(scan, range).c_str(), stdout);
+        std::fputs(scan_text(scan, span_of(scan, range)).c_str(), stdout);
       }
       ++printed;
     }
@@ -287,7 +194,7 @@ CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o, const Be
 }
 
 CommandResult shm_dump(const ShmDumpOptions& o, const CommonOptions& common) {
-  const BeamRange range = parse_beam_range(o.beams);
+  const std::optional<ipc::socket::BeamRange> range = parse_beam_range(o.beams);
   ring::RingReader reader(o.name);
   return o.follow ? follow(reader, o, range, common) : dump_newest(reader, o, range);
 }
@@ -307,7 +214,8 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("-n,--count", o->count,
                   "Scans to print: without --follow the newest N still in the ring")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--beams", o->beams, "Only beams FIRST:LAST (indices from 0, inclusive)")
+  cmd->add_option("--beams", o->beams,
+                  "Only beams FIRST:LAST (indices from 0, inclusive), or one index")
       ->check(
           [](const std::string& text) {
             try {

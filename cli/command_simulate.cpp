@@ -22,7 +22,7 @@ void register_simulate(CLI::App& app, const CommonOptions& common, CommandRunner
       const sim::Scenario s = sim::load_scenario_file(*scenario);
       Progress progress("simulate " + s.name, !common.quiet);
       const sim::TwinSeries series = sim::simulate_series(s, [&](double f) { progress.update(f); });
-      sim::write_twin_series(*output, s, series);
+      sim::write_twin_measured_data(*output, s, series);
       progress.done(std::to_string(series.ranges.size()) + " ranges");
       double lo = 1e300, hi = -1e300;
       for (const auto& r : series.ranges) {

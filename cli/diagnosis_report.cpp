@@ -41,28 +41,13 @@ std::vector<Eigen::Index> fitting_windows(std::vector<Eigen::Index> wanted, Eige
   return wanted;
 }
 
-// What the diagnosis tested, range by range over the whole record (calibration/diagnosis.cpp):
-// the bias under the calibration it ran under (an extension's covariate included) and the time
-// since the last power-on; the findings' figures recompute the residuals from it.
-std::string diagnosis_samples_csv(const calibration::MeasuredData& measured,
-                                  const core::Calibration& diagnosed) {
-  const calibration::Compensation compensation = calibration::compensate(measured, diagnosed);
-  const Eigen::VectorXd time_since_power_on_s = measured.time_since_power_on();
-  std::string out = "time_s,time_since_power_on_s,range_mm,true_range_mm,junction_c,bias_mm\n";
-  for (Eigen::Index k = 0; k < measured.range_mm.size(); ++k) {
-    out += fmt::format("{},{},{},{},{},{}\n", measured.range_time_s[k], time_since_power_on_s[k],
-                       measured.range_mm[k], measured.true_range_mm[k],
-                       compensation.junction.junction_c[k], compensation.bias_mm[k]);
-  }
-  return out;
-}
-
 }  // namespace
 
 void write_diagnosis_report(const std::string& directory, const calibration::MeasuredData& measured,
                             const calibration::TrainSettings& settings,
                             const nlohmann::json& diagnosis, const core::Calibration& diagnosed,
-                            const ReportSettings& report, bool show_progress) {
+                            const core::Diagnosis& residual_diagnosis, const ReportSettings& report,
+                            bool show_progress) {
   const std::filesystem::path dir = make_report_directory(directory);
   const ReportRenderer renderer = find_report_renderer();
   const std::filesystem::path data_dir = dir / "data";
@@ -110,6 +95,9 @@ void write_diagnosis_report(const std::string& directory, const calibration::Mea
       write_em_test_cost(data_dir, residuals, test, compensation, report.cost_fourier_orders,
                          glr.at("fourier_f0_per_c").get<double>(), settings.em, report.cost_steps);
 
+  const nlohmann::json diagnosis_samples =
+      write_diagnosis_samples(data_dir, measured, diagnosed, residual_diagnosis);
+
   const nlohmann::json context = {{"source", measured.source},
                                   {"beam", measured.beam},
                                   {"software_version", std::string("tofcomp ") + io::kVersion},
@@ -125,11 +113,10 @@ void write_diagnosis_report(const std::string& directory, const calibration::Mea
                                   {"em_training_iterations", t.em.iterations},
                                   {"glr", glr},
                                   {"em_test_trace", trace},
-                                  {"em_test_cost", cost}};
+                                  {"em_test_cost", cost},
+                                  {"diagnosis_samples", diagnosis_samples}};
   io::write_file_atomically(data_dir / "context.json", context.dump(2) + "\n");
   io::write_file_atomically(data_dir / "diagnosis.json", diagnosis.dump(2) + "\n");
-  io::write_file_atomically(data_dir / "diagnosis_samples.csv",
-                            diagnosis_samples_csv(measured, diagnosed));
 
   progress.update(0.9, "drawing the figures");
   renderer.render(dir, show_progress);

@@ -36,12 +36,14 @@ struct ReportSettings {
 
 // Writes the report of `diagnosis` (the JSON that `tofcomp diagnose --json` prints) on
 // `measured` into `directory`, creating it. `diagnosed` is the calibration the diagnosis ran
-// under: the figures of the findings are drawn on the whole record under it, as the tests ran.
-// Throws core::Error naming the directory when it cannot be made, and whatever training, testing or
-// the renderer throws. Progress on stderr when show_progress.
+// under and `residual_diagnosis` the diagnosis itself: the figures of the findings are drawn on the
+// whole record under it, with the modes and residuals the tests ran on. Throws core::Error naming
+// the directory when it cannot be made, and whatever training, testing or the renderer throws.
+// Progress on stderr when show_progress.
 void write_diagnosis_report(const std::string& directory, const calibration::MeasuredData& measured,
                             const calibration::TrainSettings& settings,
                             const nlohmann::json& diagnosis, const core::Calibration& diagnosed,
-                            const ReportSettings& report, bool show_progress);
+                            const core::Diagnosis& residual_diagnosis, const ReportSettings& report,
+                            bool show_progress);
 
 }  // namespace tofcomp::cli

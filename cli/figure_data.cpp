@@ -22,6 +22,7 @@ std::string samples_csv(const calibration::MeasuredData& test, const core::Calib
   const Eigen::VectorXd time_since_power_on_s = test.time_since_power_on();
   std::string out = "time_s,time_since_power_on_s,range_mm,junction_c,bias_mm";
   for (int i = 0; i < modes; ++i) out += fmt::format(",posterior_mode{}", i + 1);
+  out += ",most_probable_mode";
   out += has_truth ? ",compensated_mm,true_range_mm\n" : ",compensated_mm\n";
   for (Eigen::Index k = 0; k < test.range_mm.size(); ++k) {
     Eigen::Index best = 0;
@@ -30,6 +31,7 @@ std::string samples_csv(const calibration::MeasuredData& test, const core::Calib
         fmt::format("{},{},{},{},{}", test.range_time_s[k], time_since_power_on_s[k],
                     test.range_mm[k], compensation.junction.junction_c[k], compensation.bias_mm[k]);
     for (int i = 0; i < modes; ++i) out += fmt::format(",{}", fit.responsibilities(k, i));
+    out += fmt::format(",{}", best);
     out += fmt::format(
         ",{}", test.range_mm[k] - compensation.bias_mm[k] - calibration.model.mixture.mean[best]);
     out += has_truth ? fmt::format(",{}\n", test.true_range_mm[k]) : "\n";

@@ -5,6 +5,9 @@
 //   em_test_cost.csv    measured time of EM testing against the number of samples, for two
 //                       model orders (Fig. 15)
 //   moments.csv         per window length and estimator, the error moments (Fig. 18-19)
+//   diagnosis_samples.csv  the whole record under the calibration the diagnosis ran under, with
+//                       what the diagnosis computed of each range (the findings' figures)
+// The renderer (cli/report/) draws these values; it computes none of them.
 #pragma once
 
 #include <Eigen/Core>
@@ -16,8 +19,10 @@
 
 #include "calibration/compensation.hpp"
 #include "calibration/window_evaluation.hpp"
+#include "core/calibration.hpp"
 #include "core/em_train.hpp"
 #include "core/gaussian_mixture.hpp"
+#include "core/residual_diagnosis.hpp"
 
 namespace tofcomp::cli {
 
@@ -64,5 +69,20 @@ nlohmann::json write_em_test_cost(const std::filesystem::path& directory,
 // Fig. 18-19: the error moments of the three estimators of §8.4 for each window length.
 void write_error_moments(const std::filesystem::path& directory,
                          const std::vector<calibration::WindowEvaluation>& evaluations);
+
+// The findings' figures: diagnosis_samples.csv, the whole record `measured` under `diagnosed`,
+// the calibration `diagnosis` ran under, range by range: the time, the time since the last
+// power-on, y, d, t̂^j, the bias Hθ̂ (an extension's covariate term in it), the residual
+// y − d − Hθ̂, its most probable mode under the mixture (Eq. 18 with the true distance) and
+// e = y − d − Hθ̂ − μ̂ of that mode as the diagnosis computed them, and the junction's heating
+// rate in °C/min as the diagnosis tested it (core::local_rate over ±kHeatingRateHalfWindowS).
+// Returns {heating_rate_half_window_s, warm_up_fit}: the half window of the heating rate, and the
+// warm-up test's curve, e's least-squares fit level + γ·exp(−t_on/τ) for the τ of
+// core::kWarmUpTimeConstantsS whose covariate correlates best with e, as
+// {time_constant_s, gamma_mm, level_mm} (null when the time since power-on does not vary).
+nlohmann::json write_diagnosis_samples(const std::filesystem::path& directory,
+                                       const calibration::MeasuredData& measured,
+                                       const core::Calibration& diagnosed,
+                                       const core::Diagnosis& diagnosis);
 
 }  // namespace tofcomp::cli

@@ -8,13 +8,14 @@ void ReportOptions::write_if_requested(const calibration::MeasuredData& measured
                                        const calibration::TrainSettings& settings,
                                        const nlohmann::json& diagnosis,
                                        const core::Calibration& diagnosed,
+                                       const core::Diagnosis& residual_diagnosis,
                                        const std::vector<Eigen::Index>& windows,
                                        bool show_progress) const {
   if (directory.empty()) return;
   ReportSettings report;
   report.windows = windows;
-  write_diagnosis_report(directory, measured, settings, diagnosis, diagnosed, report,
-                         show_progress);
+  write_diagnosis_report(directory, measured, settings, diagnosis, diagnosed, residual_diagnosis,
+                         report, show_progress);
 }
 
 std::shared_ptr<ReportOptions> add_report_options(CLI::App& cmd) {

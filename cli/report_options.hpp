@@ -11,6 +11,7 @@
 
 #include "calibration/measured_data.hpp"
 #include "calibration/training.hpp"
+#include "core/residual_diagnosis.hpp"
 
 namespace tofcomp::cli {
 
@@ -21,6 +22,7 @@ struct ReportOptions {
   void write_if_requested(const calibration::MeasuredData& measured,
                           const calibration::TrainSettings& settings,
                           const nlohmann::json& diagnosis, const core::Calibration& diagnosed,
+                          const core::Diagnosis& residual_diagnosis,
                           const std::vector<Eigen::Index>& windows, bool show_progress) const;
 };
 

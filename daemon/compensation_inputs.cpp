@@ -78,7 +78,7 @@ std::optional<ipc::CompensatedScan> CompensationInputs::scan(ArrivedScan scan) {
   scan.raw.time_s = t;
   // A scan proves the scanner is powered, whatever the last sense said; but one that reaches
   // the loop after the daemon switched the power off was measured before: it is published, and
-  // left out of the recordings (a data set holds no range while the power is 0).
+  // left out of the recordings (measured data hold no range while the power is 0).
   const bool measured_before_switch_off = power_on_ == false && switched_off_;
   if (power_on_ == false && !switched_off_) power(t, true);
   std::optional<ipc::CompensatedScan> out;

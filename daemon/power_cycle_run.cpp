@@ -52,7 +52,7 @@ std::string PowerCycleRun::prepare(const settings::PowerCycleRunConfig& run) {
     settings.file_name = run.recording.filename();
     settings.beams = std::pair{run.beams.first, run.beams.last};
     settings.true_range_mm = run.true_range_mm;
-    // The run's data set starts from the state the pipeline is in.
+    // The run's recording starts from the state the pipeline is in.
     parts_.inputs.seed(parts_.recordings.start_run(std::move(settings)));
     config_ = run;
     schedule_ = std::make_unique<PowerCycleSchedule>(

@@ -1,8 +1,8 @@
-// Recalibration (docs/daemon.md, "Recalibration"): on a recorded data set, or on the recording
-// of a power-cycle run (daemon/power_cycle_run.hpp), trained in the worker thread
-// (daemon/recalibration_worker.hpp) and swapped into the pipeline on the loop, between two
-// scans. Asked for by a client, or at start when the calibration is missing. Owns the worker,
-// the run and the recalibration's state.
+// Recalibration (docs/daemon.md, "Recalibration"): on a recording (measured data with a known
+// distance), or on the recording of a power-cycle run (daemon/power_cycle_run.hpp), trained in
+// the worker thread (daemon/recalibration_worker.hpp) and swapped into the pipeline on the loop,
+// between two scans. Asked for by a client, or at start when the calibration is missing. Owns the
+// worker, the run and the recalibration's state.
 #pragma once
 
 #include <boost/asio/io_context.hpp>

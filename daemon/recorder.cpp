@@ -76,7 +76,7 @@ void Recorder::open_file(const realtime::RawScan& first) {
   auto out = std::make_unique<std::ofstream>(path, std::ios::binary);
   if (!*out) throw core::Error("recording: cannot create " + path.string());
   const bool first_file = counters_.files == 0;
-  writer_ = std::make_unique<io::MeasurementCsvWriter>(
+  writer_ = std::make_unique<io::MeasuredDataWriter>(
       *out,
       io::recording_metadata(first.ranges_mm.size(), first.start_angle_deg, first.resolution_deg),
       std::move(columns), path.string());

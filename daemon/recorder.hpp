@@ -5,7 +5,7 @@
 // first file replays to the very outputs the daemon published. Written on the event loop,
 // flushed after every scan, so a crash loses at most the scan being written.
 //
-// A calibration run's data set (§8.1, daemon/power_cycle_run.hpp) is one such recording in one
+// A calibration run's recording (§8.1, daemon/power_cycle_run.hpp) is one such recording in one
 // named file, of the beams that face the target only, each range with the target's known
 // distance (true_range_mm) for training.
 #pragma once
@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "realtime/raw_scan.hpp"
 
 namespace tofcomp::daemon {
@@ -63,7 +63,7 @@ class Recorder {
 
   RecorderSettings settings_;
   std::unique_ptr<std::ofstream> out_;
-  std::unique_ptr<io::MeasurementCsvWriter> writer_;
+  std::unique_ptr<io::MeasuredDataWriter> writer_;
   std::filesystem::path current_path_;
   std::chrono::steady_clock::time_point opened_at_{};
   long rows_in_file_ = 0;

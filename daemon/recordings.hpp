@@ -1,5 +1,5 @@
 // The recordings of what the pipeline takes in (daemon/recorder.hpp): the configured one
-// (`recording`), and a calibration run's data set while the run records (§8.1,
+// (`recording`), and a calibration run's recording while the run records (§8.1,
 // daemon/power_cycle_run.hpp). Owns both recorders and the count of recording errors. Each row
 // goes to every recorder running; one that fails is stopped, and a run's failing is reported to
 // the run.

@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/measurement_error.hpp"
+#include "io/measured_data_error.hpp"
 
 namespace tofcomp::io {
 

@@ -1,6 +1,6 @@
 // The rules of the interchange CSV beyond a single cell, in one place so that the reader, the
 // writer and the builder accept exactly the same tables. Every check throws
-// MeasurementFileError at the place given.
+// MeasuredDataFileError at the place given.
 #pragma once
 
 #include <optional>
@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "io/measurement_error.hpp"
+#include "io/measured_data_error.hpp"
 #include "io/measurement_table.hpp"
 
 namespace tofcomp::io {

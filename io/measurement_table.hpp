@@ -1,6 +1,6 @@
 // One measured-data experiment as the interchange CSV holds it (../shared/docs/data-format.md):
 // the metadata lines, the columns in file order and the data rows, each carrying only what was
-// sampled at its instant. Read and written by io/measurement_csv.hpp, built by
+// sampled at its instant. Read and written by io/measured_data_csv.hpp, built by
 // io/measurement_table_builder.hpp, turned into per-quantity series by io/measurement_series.hpp.
 #pragma once
 

@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include "io/measurement_error.hpp"
+#include "io/measured_data_error.hpp"
 
 namespace tofcomp::io {
 
@@ -18,9 +18,9 @@ void MeasurementTableBuilder::append(const MeasurementRow& row) {
     const MeasurementPlace at{"appended row", 0};
     if (!row.unknown_cells.empty()) at.fail("", "a built table has no unknown columns");
     rules_.admit(row, at);
-  } catch (const MeasurementFileError& error) {  // named by its number only when it fails
-    throw MeasurementFileError("appended row " + std::to_string(table_.rows.size() + 1), 0,
-                               error.column(), error.reason());
+  } catch (const MeasuredDataFileError& error) {  // named by its number only when it fails
+    throw MeasuredDataFileError("appended row " + std::to_string(table_.rows.size() + 1), 0,
+                                error.column(), error.reason());
   }
   for (const MeasurementColumn column : kMeasurementColumns) {
     used_[static_cast<std::size_t>(column)] |= has_cell(row, column);

@@ -6,7 +6,7 @@
 //   builder.add_metadata("sensor", "LMS200");
 //   builder.append({.time_s = 0.0, .case_temp_c = 22.0, .power = true});
 //   builder.append({.time_s = 0.0, .range_mm = 2997.0, .beam = 90, .true_range_mm = 3000.0});
-//   write_measurements_file("run.csv", builder.finish());
+//   write_measured_data_file("run.csv", builder.finish());
 #pragma once
 
 #include <array>
@@ -21,11 +21,11 @@ namespace tofcomp::io {
 
 class MeasurementTableBuilder {
  public:
-  // Throws MeasurementFileError if the line would not read back as itself (a line break, a
+  // Throws MeasuredDataFileError if the line would not read back as itself (a line break, a
   // colon in the key, blanks around key or value).
   void add_metadata(std::string key, std::string value);
 
-  // Throws MeasurementFileError (source "appended row N", line 0) naming the column: time going
+  // Throws MeasuredDataFileError (source "appended row N", line 0) naming the column: time going
   // backwards, NaN or Inf, a negative beam, a range while the power is 0, unknown cells. The
   // builder is unchanged then.
   void append(const MeasurementRow& row);

@@ -15,7 +15,7 @@
 namespace tofcomp::realtime {
 
 // Feeds a recording's events to `pipeline` in file order and hands each compensated scan to
-// `on_scan`. Throws io::MeasurementFileError-style core::Error naming the source and line for
+// `on_scan`. Throws io::MeasuredDataFileError-style core::Error naming the source and line for
 // a recording without its geometry or with a beam outside it.
 void replay_recording(const io::MeasurementTable& table, const std::string& source,
                       CompensationPipeline& pipeline,

@@ -141,7 +141,7 @@ struct PowerCycleRunConfig {
   double off_s = 560.0;
   double true_range_mm = 0.0;       // the target's distance; required
   BeamRange beams;                  // the beams that face the target; training uses the middle one
-  std::filesystem::path recording;  // the run's data set (interchange CSV); required
+  std::filesystem::path recording;  // the run's recording (measured-data CSV); required
   // The beam trained on: the middle of `beams`.
   int training_beam() const { return (beams.first + beams.last) / 2; }
 };

@@ -1,7 +1,7 @@
 // The configuration handed to the host driver and the emulator.
 #include "settings/daemon_config_adapters.hpp"
 
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "settings/daemon_config_error.hpp"
 #include "sim/scenario_yaml.hpp"
 
@@ -35,7 +35,7 @@ sim::lms200::EmulatorSettings emulator_settings(const DaemonConfig& config) {
   }
   if (!emulator.recording.empty()) {
     try {
-      settings.recording = io::read_measurements_file(emulator.recording.string());
+      settings.recording = io::read_measured_data_file(emulator.recording.string());
       settings.recording_source = emulator.recording.string();
       // The daemon takes every recorded scan, and the recorded readings with it
       // (daemon/playback_feed.hpp): none is skipped while its driver brings the link up.

@@ -4,13 +4,13 @@
 
 #include <limits>
 
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "io/measurement_table_builder.hpp"
 
 namespace tofcomp::sim {
 
-void write_twin_series(const std::string& file, const Scenario& scenario,
-                       const TwinSeries& series) {
+void write_twin_measured_data(const std::string& file, const Scenario& scenario,
+                              const TwinSeries& series) {
   io::MeasurementTableBuilder table;
   table.add_metadata("source", "tofcomp digital twin");
   table.add_metadata("scenario", scenario.name);
@@ -48,7 +48,7 @@ void write_twin_series(const std::string& file, const Scenario& scenario,
     }
     table.append(row);
   }
-  io::write_measurements_file(file, table.finish());
+  io::write_measured_data_file(file, table.finish());
 }
 
 }  // namespace tofcomp::sim

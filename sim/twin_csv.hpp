@@ -1,5 +1,5 @@
-// The twin's series as the interchange CSV (../shared/docs/data-format.md): the measured-data
-// file `tofcomp simulate` writes and every analysis reads.
+// The twin's series (sim/twin.hpp) written as measured data, the interchange CSV of
+// ../shared/docs/data-format.md: the file `tofcomp simulate` writes and every analysis reads.
 #pragma once
 
 #include <string>
@@ -8,7 +8,8 @@
 
 namespace tofcomp::sim {
 
-// Writes the twin's series as the interchange CSV, with the scenario in metadata comments.
-void write_twin_series(const std::string& file, const Scenario& scenario, const TwinSeries& series);
+// Writes the twin's series as measured data, with the scenario in metadata comments.
+void write_twin_measured_data(const std::string& file, const Scenario& scenario,
+                              const TwinSeries& series);
 
 }  // namespace tofcomp::sim

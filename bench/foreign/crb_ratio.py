@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""MAE of d-hat over the Cramér-Rao bound on the foreign data sets, with tofcomp's defaults.
+"""MAE of d-hat over the Cramér-Rao bound on the foreign measured data, with tofcomp's defaults.
 
 Usage: bench/foreign/crb_ratio.py TOFCOMP DATA_DIR [--save DIR] [extra tofcomp evaluate options...]
 

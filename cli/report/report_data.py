@@ -83,18 +83,23 @@ def load_report_data(directory):
     data_dir = os.path.join(directory, "data")
     if not os.path.isdir(data_dir):
         raise ReportInputError(f"{data_dir}: no such directory (run tofcomp diagnose --report)")
-    context = read_json(os.path.join(data_dir, "context.json"))
+    context_path = os.path.join(data_dir, "context.json")
+    context = read_json(context_path)
+    if "diagnosis_samples" not in context:
+        raise ReportInputError(f"{context_path}: no diagnosis_samples (what the C++ side "
+                               f"computed for the findings' figures)")
     diagnosis = read_json(os.path.join(data_dir, "diagnosis.json"))
     samples_path = os.path.join(data_dir, "samples.csv")
     samples = read_table(samples_path)
     require_columns(samples, samples_path,
-                    ["time_s", "range_mm", "junction_c", "bias_mm", "compensated_mm",
-                     "true_range_mm"])
+                    ["time_s", "range_mm", "junction_c", "bias_mm", "most_probable_mode",
+                     "compensated_mm", "true_range_mm"])
     diagnosis_samples_path = os.path.join(data_dir, "diagnosis_samples.csv")
     diagnosis_samples = read_table(diagnosis_samples_path)
     require_columns(diagnosis_samples, diagnosis_samples_path,
                     ["time_s", "time_since_power_on_s", "range_mm", "true_range_mm",
-                     "junction_c", "bias_mm"])
+                     "junction_c", "bias_mm", "residual_mm", "mode", "e_mm",
+                     "heating_rate_c_per_min"])
     windows = {}
     for length in sorted(set(context.get("windows", [])) | set(context.get("moment_windows", []))):
         table = _optional_table(data_dir, f"windows_{length}.csv")
@@ -121,7 +126,6 @@ def mode_count(samples):
 
 
 def most_probable_mode(samples):
-    """Index (0-based) of each range's most probable mode (the Δ̂ of Eq. 22)."""
-    posteriors = np.column_stack(
-        [samples[f"posterior_mode{i + 1}"] for i in range(mode_count(samples))])
-    return np.argmax(posteriors, axis=1)
+    """Index (0-based) of each range's most probable mode (the Δ̂ of Eq. 22), as the C++ side
+    chose it (cli/figure_data.hpp)."""
+    return samples["most_probable_mode"].astype(int)

@@ -1,12 +1,12 @@
 """The figure of each finding of the diagnosis (core/residual_diagnosis.hpp): what each of the
 nine tests measures, drawn on what the test ran on: the whole record under the calibration the
 diagnosis used (DIR/data/diagnosis_samples.csv and the context's diagnosis_calibration). The
-quantities the tests use are computed here exactly as the diagnosis computes them: the residual
-y − d − Hθ̂ (an extension's covariate term in Hθ̂), the most probable mode under the mixture
-(Eq. 18, with the true distance d, as the diagnosis does), e = y − d − Hθ̂ − μ̂ of that mode,
-the junction's heating rate as the least-squares slope of t̂ʲ over ±30 s, and the time since
-the last power-on from the data's power column. Each function draws one PNG into DIR/figures/
-and returns a report_style.Figure, or None when the data do not allow it.
+quantities the tests use are the C++ side's (cli/report_figure_data.hpp), read, not recomputed:
+the residual y − d − Hθ̂ (an extension's covariate term in Hθ̂), the most probable mode under the
+mixture (Eq. 18, with the true distance, as the diagnosis does), e = y − d − Hθ̂ − μ̂ of that
+mode, the junction's heating rate as the diagnosis tested it, the time since the last power-on,
+and the warm-up test's curve (context.json's diagnosis_samples). Each function draws one PNG into
+DIR/figures/ and returns a report_style.Figure, or None when the data do not allow it.
 """
 
 import math
@@ -18,10 +18,8 @@ import numpy as np
 from report_style import (MODE_COLOURS, Figure, histogram_bins, legend_right, plt,
                           resolution_mm, save)
 
-RATE_HALF_WINDOW_S = 30.0  # calibration/diagnosis.cpp: kRateHalfWindowS
 TAIL_Z = 8.0  # core/residual_diagnosis.hpp: DiagnosisOptions::tail_z
 LAGS = 20  # core/residual_diagnosis.hpp: DiagnosisOptions::ljung_box_lags
-WARM_UP_TIME_CONSTANTS_S = [30.0, 60.0, 120.0, 240.0, 480.0, 960.0, 1920.0]  # core/warm_up.hpp
 WARM_UP_EDGES_S = [0.0, 15.0, 30.0, 60.0, 120.0, 240.0, 480.0, 960.0, 1920.0, math.inf]
 TAIL_LEVELS = [0.93, 0.96, 0.98, 0.99, 0.995, 0.998, 1.0]  # heating-rate quantiles, the tail
 ON_THE_RECORD = ("Drawn on the whole record under the calibration the diagnosis used, the ranges "
@@ -29,43 +27,26 @@ ON_THE_RECORD = ("Drawn on the whole record under the calibration the diagnosis 
 
 
 class Residuals:
-    """The quantities of core/residual_diagnosis.cpp on the ranges the diagnosis tested."""
+    """What the diagnosis computed of each range it tested (DIR/data/diagnosis_samples.csv), and
+    the modes of the calibration it ran under."""
 
-    def __init__(self, samples, modes):
+    def __init__(self, samples, modes, computed):
         self.time_s = samples["time_s"]
         self.time_since_power_on_s = samples["time_since_power_on_s"]
         self.junction_c = samples["junction_c"]
-        self.residual = samples["range_mm"] - samples["true_range_mm"] - samples["bias_mm"]
+        self.residual = samples["residual_mm"]
         self.mu = np.array([m["offset_mm"] for m in modes], dtype=float)
         self.sigma = np.array([m["std_mm"] for m in modes], dtype=float)
         self.weight = np.array([m["weight"] for m in modes], dtype=float)
-        log = (np.log(self.weight) - np.log(self.sigma)
-               - 0.5 * ((self.residual[:, None] - self.mu) / self.sigma) ** 2)
-        self.mode = np.argmax(log, axis=1)
-        self.e = self.residual - self.mu[self.mode]
+        self.mode = samples["mode"].astype(int)
+        self.e = samples["e_mm"]
+        self.heating_rate_c_per_min = samples["heating_rate_c_per_min"]
+        # What the C++ side computed beside the samples (context.json's diagnosis_samples): the
+        # half window of the heating rate, the warm-up curve (None when t_on does not vary).
+        self.rate_half_window_s = computed["heating_rate_half_window_s"]
+        self.warm_up_fit = computed["warm_up_fit"]
         self.n = self.residual.size
         self.step_mm = resolution_mm(samples["range_mm"])  # the scanner's range step
-
-    def heating_rate_c_per_min(self):
-        return 60.0 * local_rate(self.time_s, self.junction_c, RATE_HALF_WINDOW_S)
-
-
-def local_rate(time_s, value, half_window_s):
-    """core::local_rate: the least-squares slope of value over ±half_window_s around each
-    sample (0 where the window holds a single time)."""
-    lo = np.searchsorted(time_s, time_s - half_window_s, side="left")
-    hi = np.searchsorted(time_s, time_s + half_window_s, side="right")
-    t = time_s - time_s[0]
-
-    def sums(x):
-        c = np.concatenate([[0.0], np.cumsum(x)])
-        return c[hi] - c[lo]
-
-    count, st, sv, stt, stv = (sums(np.ones_like(t)), sums(t), sums(value), sums(t * t),
-                               sums(t * value))
-    denominator = count * stt - st * st
-    ok = denominator > 1e-9 * count * count
-    return np.where(ok, (count * stv - st * sv) / np.where(ok, denominator, 1.0), 0.0)
 
 
 def autocorrelation(x, lags):
@@ -318,7 +299,7 @@ BOTH_RESIDUALS = ("In orange, the same for y − d − Hθ̂ less its mean (the 
 
 
 def heating_hysteresis(r, directory, name):
-    rate = r.heating_rate_c_per_min()
+    rate = r.heating_rate_c_per_min
     if np.ptp(rate) <= 0.0:
         return None
     linear_up_to = float(np.quantile(np.abs(rate), 0.9))
@@ -335,8 +316,7 @@ def heating_hysteresis(r, directory, name):
                   f"each range's most probable mode (the residual the test correlates) in bins "
                   f"of the junction's heating rate, 10 % of the ranges each up to the 90 % "
                   f"quantile, then 3, 3, 2, 1, 0.5, 0.3 and 0.2 % (the least-squares slope of "
-                  f"t̂ʲ over ±{RATE_HALF_WINDOW_S:g} s, computed from samples.csv as the "
-                  f"diagnosis computes it; the axis is linear up to ±{linear_up_to:.3g} °C/min, "
+                  f"t̂ʲ over ±{r.rate_half_window_s:g} s, as the diagnosis computed it; the axis is linear up to ±{linear_up_to:.3g} °C/min, "
                   f"where 90 % of the ranges are, logarithmic beyond), with the least-squares "
                   f"line ({slopes[0]:+.3f} mm per °C/min). {BOTH_RESIDUALS} Look for: a slope, "
                   f"a range that depends on whether the junction heats or cools at the same "
@@ -362,15 +342,14 @@ def time_drift(r, directory, name):
 
 def warm_up(r, directory, name):
     t_on = r.time_since_power_on_s
-    if np.ptp(t_on) <= 0.0:
+    if r.warm_up_fit is None:
         return None
     edges = np.array(WARM_UP_EDGES_S)
     edges[-1] = max(float(np.max(t_on)), edges[-2] + 1.0)
     # The curve the test found: e's least-squares fit a + γ·exp(−t_on/τ) for the τ of the grid
-    # whose covariate correlates best with e.
-    best = max(WARM_UP_TIME_CONSTANTS_S,
-               key=lambda tau: abs(np.corrcoef(np.exp(-t_on / tau), r.e)[0, 1]))
-    gamma, level = np.polyfit(np.exp(-t_on / best), r.e, 1)
+    # whose covariate correlates best with e (cli/report_figure_data.hpp).
+    best = r.warm_up_fit["time_constant_s"]
+    gamma, level = r.warm_up_fit["gamma_mm"], r.warm_up_fit["level_mm"]
     fig, ax = plt.subplots(figsize=(6.5, 4))
     ax.set_xscale("symlog", linthresh=15.0, linscale=0.6)
     _draw_bin_means(ax, r, t_on, edges, 10)
@@ -487,7 +466,8 @@ def draw_finding_figures(data, directory, progress):
     os.makedirs(figures_dir, exist_ok=True)
     findings = data.diagnosis.get("findings") or []
     modes = data.context.get("diagnosis_calibration", {}).get("modes", [])
-    residuals = Residuals(data.diagnosis_samples, modes) if modes else None
+    residuals = (Residuals(data.diagnosis_samples, modes, data.context["diagnosis_samples"])
+                 if modes else None)
     drawn = {}
     for i, finding in enumerate(findings):
         effect = finding.get("effect")

@@ -4,6 +4,8 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
 #include <string_view>
 #include <system_error>
 
@@ -172,6 +174,66 @@ std::string encode_scan(const ipc::CompensatedScan& scan, BeamSpan span) {
   json.close(']');
   json.close('}');
   return out;
+}
+
+namespace {
+
+// A number of the object, null (a value that does not exist) as NaN.
+double number_or_nan(const nlohmann::json& object, const char* key) {
+  const nlohmann::json& value = object.at(key);
+  return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
+}
+
+ipc::BeamValue decode_beam(const nlohmann::json& object) {
+  ipc::BeamValue beam;
+  beam.raw_mm = number_or_nan(object, "raw_mm");
+  beam.compensated_mm = number_or_nan(object, "compensated_mm");
+  beam.window_mm = number_or_nan(object, "window_mm");
+  beam.window_std_mm = number_or_nan(object, "window_std_mm");
+  beam.flags = object.at("flags").get<std::uint16_t>();
+  beam.mode_count = object.at("mode_count").get<std::uint8_t>();
+  beam.most_probable_mode = object.at("most_probable_mode").get<std::uint8_t>();
+  const nlohmann::json& posterior = object.at("mode_posterior");
+  for (std::size_t m = 0; m < posterior.size() && m < ipc::kMaxModes; ++m) {
+    beam.mode_posterior[m] = posterior[m].is_null() ? std::numeric_limits<float>::quiet_NaN()
+                                                    : posterior[m].get<float>();
+  }
+  return beam;
+}
+
+}  // namespace
+
+ReceivedScan decode_scan(const nlohmann::json& object) {
+  try {
+    ReceivedScan r;
+    ipc::CompensatedScan& s = r.scan;
+    s.sequence = object.at("sequence").get<std::uint64_t>();
+    s.device_sequence = object.at("device_sequence").get<std::uint64_t>();
+    s.timestamp_ns = object.at("timestamp_ns").get<std::int64_t>();
+    s.junction_c = number_or_nan(object, "junction_c");
+    s.junction_std_c = number_or_nan(object, "junction_std_c");
+    s.case_c = number_or_nan(object, "case_c");
+    s.start_angle_deg = number_or_nan(object, "start_angle_deg");
+    s.resolution_deg = number_or_nan(object, "resolution_deg");
+    s.calibration_id = object.at("calibration_id").get<std::uint32_t>();
+    s.beams.resize(object.at("beam_count").get<std::size_t>());
+    const nlohmann::json& beams = object.at("beams");
+    r.span = {object.at("first_beam").get<std::size_t>(), beams.size()};
+    if (r.span.count > 0 &&
+        (r.span.first >= s.beams.size() || r.span.count > s.beams.size() - r.span.first)) {
+      throw core::InvalidInput("beams " + std::to_string(r.span.first) + " + " +
+                               std::to_string(r.span.count) + " lie outside its " +
+                               std::to_string(s.beams.size()) + " beams");
+    }
+    for (std::size_t i = 0; i < r.span.count; ++i) {
+      s.beams[r.span.first + i] = decode_beam(beams[i]);
+    }
+    return r;
+  } catch (const nlohmann::json::exception& e) {
+    throw core::InvalidInput(std::string("a scan object of the socket protocol: ") + e.what());
+  } catch (const core::InvalidInput& e) {
+    throw core::InvalidInput(std::string("a scan object of the socket protocol: ") + e.what());
+  }
 }
 
 }  // namespace tofcomp::ipc::socket

@@ -1,10 +1,11 @@
 // The emulated LMS 200 on a pseudo-terminal: the device model (sim/lms200/device.hpp) answering
-// a host over a real pty, scans drawn from the digital twin in real time or faster, the link's
-// rate honoured (bytes at a rate other than the host's are lost, as on a real line), and faults
-// injected at configured rates. Runs its own thread; `tofcomp emulate` serves one until stopped.
+// a host over a real pty (sim/lms200/pty_link.hpp), scans drawn from the digital twin in real
+// time or faster (sim/lms200/twin_scan_source.hpp), the link's rate honoured (bytes at a rate
+// other than the host's are lost, as on a real line), and faults injected at configured rates.
+// Runs its own thread; `tofcomp emulate` serves one until stopped.
 //
-// With a recording set, the device plays it (sim/lms200/recording_playback.hpp) instead of the
-// twin: each recorded scan is sent at its recorded time (scaled by time_scale), exactly as
+// With a recording set, the device plays it (sim/lms200/recording_scan_source.hpp) instead of
+// the twin: each recorded scan is sent at its recorded time (scaled by time_scale), exactly as
 // recorded, and the case sensor, power sense and clock answer from the recording. The device
 // sends what the recording holds and does not resample: the host must configure the recorded
 // variant (the one whose values per scan equal the recording's `beams`), or it receives scans
@@ -36,6 +37,9 @@
 #include "sim/twin.hpp"
 
 namespace tofcomp::sim::lms200 {
+
+class PtyLink;
+class RecordingScanSource;
 
 struct EmulatorSettings {
   // The twin's experiment. Playing a recording, the twin is built but not played (the scenario
@@ -132,8 +136,8 @@ class Emulator {
   void set_power(bool on);
 
  private:
-  class Server;
-  std::unique_ptr<Server> server_;
+  RecordingScanSource* recording_ = nullptr;  // the source, when playing a recording
+  std::unique_ptr<PtyLink> link_;
 };
 
 }  // namespace tofcomp::sim::lms200

@@ -21,7 +21,7 @@ const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 
 MeasuredData scenario_data(const sim::Scenario& scenario) {
   const std::string file = ::testing::TempDir() + "/" + scenario.name + ".csv";
-  sim::write_twin_series(file, scenario, sim::simulate_series(scenario));
+  sim::write_twin_measured_data(file, scenario, sim::simulate_series(scenario));
   std::vector<std::string> warnings;
   return read_measured_data(file, 0, warnings);
 }
@@ -115,7 +115,7 @@ MeasuredData twin_data(const std::string& name) {
   const sim::Scenario scenario =
       sim::load_scenario_file(kRoot + "/config/scenarios/" + name + ".yaml");
   const std::string file = ::testing::TempDir() + "/ext_" + name + ".csv";
-  sim::write_twin_series(file, scenario, sim::simulate_series(scenario));
+  sim::write_twin_measured_data(file, scenario, sim::simulate_series(scenario));
   std::vector<std::string> warnings;
   return read_measured_data(file, 0, warnings);
 }

@@ -98,7 +98,7 @@ TEST_P(ReplayWithExtension, EstimatesCloserToTheTruth) {
       sim::load_scenario_file(kRoot + "/config/scenarios/" + c.scenario + ".yaml");
   scenario.seed = 11;
   const std::string file = ::testing::TempDir() + "/" + c.scenario + "-replay.csv";
-  sim::write_twin_series(file, scenario, sim::simulate_series(scenario));
+  sim::write_twin_measured_data(file, scenario, sim::simulate_series(scenario));
   std::vector<std::string> warnings;
   const MeasuredData data = read_measured_data(file, 0, warnings);
   TrainSettings settings;

@@ -26,7 +26,7 @@ TEST_P(TrainRecoversTwin, WithinTolerances) {
   sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
   scenario.seed = GetParam();
   const std::string file = ::testing::TempDir() + "/twin_" + std::to_string(GetParam()) + ".csv";
-  sim::write_twin_series(file, scenario, sim::simulate_series(scenario));
+  sim::write_twin_measured_data(file, scenario, sim::simulate_series(scenario));
   std::vector<std::string> warnings;
   const MeasuredData data = read_measured_data(file, 0, warnings);
   EXPECT_TRUE(warnings.empty());

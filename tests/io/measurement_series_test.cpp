@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "measurement_csv_test_support.hpp"
+#include "measured_data_csv_test_support.hpp"
 
 namespace tofcomp::io {
 namespace {

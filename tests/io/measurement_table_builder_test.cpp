@@ -6,19 +6,19 @@
 
 #include <limits>
 
-#include "measurement_csv_test_support.hpp"
+#include "measured_data_csv_test_support.hpp"
 
 namespace tofcomp::io {
 namespace {
 
-MeasurementFileError append_error(MeasurementTableBuilder& builder, const MeasurementRow& row) {
+MeasuredDataFileError append_error(MeasurementTableBuilder& builder, const MeasurementRow& row) {
   try {
     builder.append(row);
-  } catch (const MeasurementFileError& error) {
+  } catch (const MeasuredDataFileError& error) {
     return error;
   }
   ADD_FAILURE() << "no error";
-  return MeasurementFileError("", 0, "", "");
+  return MeasuredDataFileError("", 0, "", "");
 }
 
 TEST(MeasurementTableBuilder, HeaderHoldsTheColumnsUsedInTheFormatOrder) {
@@ -44,7 +44,7 @@ TEST(MeasurementTableBuilder, AppendChecksAsTheReaderDoes) {
   MeasurementTableBuilder builder;
   builder.append({.time_s = 1.0, .range_mm = 3000.0});
 
-  const MeasurementFileError backwards = append_error(builder, {.time_s = 0.5});
+  const MeasuredDataFileError backwards = append_error(builder, {.time_s = 0.5});
   EXPECT_EQ(backwards.source(), "appended row 2");
   EXPECT_EQ(backwards.line(), 0);
   EXPECT_EQ(backwards.column(), "time_s");
@@ -71,8 +71,8 @@ TEST(MeasurementTableBuilder, AppendChecksAsTheReaderDoes) {
 TEST(MeasurementTableBuilder, MetadataMustReadBackAsItself) {
   MeasurementTableBuilder builder;
   builder.add_metadata("target", "wall, 3 m: grey");
-  EXPECT_THROW(builder.add_metadata("a:b", "c"), MeasurementFileError);
-  EXPECT_THROW(builder.add_metadata("key", "line\nbreak"), MeasurementFileError);
+  EXPECT_THROW(builder.add_metadata("a:b", "c"), MeasuredDataFileError);
+  EXPECT_THROW(builder.add_metadata("key", "line\nbreak"), MeasuredDataFileError);
   EXPECT_EQ(builder.finish().metadata.size(), 1u);
 }
 

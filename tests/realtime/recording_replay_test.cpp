@@ -8,7 +8,7 @@
 #include <random>
 
 #include "core/error.hpp"
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "io/measurement_table_builder.hpp"
 #include "tests/realtime/realtime_examples.hpp"
 
@@ -88,8 +88,8 @@ TEST(RecordingReplay, ReplayEqualsTheLivePipeline) {
   for (const auto& row : rows) recording.append(row);
   const auto file = std::filesystem::temp_directory_path() /
                     ("tofcomp-replay-" + std::to_string(::getpid()) + ".csv");
-  io::write_measurements_file(file.string(), recording.finish());
-  const io::MeasurementTable table = io::read_measurements_file(file.string());
+  io::write_measured_data_file(file.string(), recording.finish());
+  const io::MeasurementTable table = io::read_measured_data_file(file.string());
   std::filesystem::remove(file);
 
   CompensationPipeline replay;

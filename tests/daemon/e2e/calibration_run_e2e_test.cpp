@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "io/calibration_file.hpp"
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "ipc/socket/client.hpp"
 #include "tests/daemon/e2e/daemon_process.hpp"
 #include "tests/daemon/e2e/e2e_config.hpp"
@@ -179,7 +179,7 @@ TEST(DaemonCalibrationRun, CyclesThePowerRecordsTrainsAndSwapsWithoutLosingAScan
   // The run's recording: the interchange CSV with the facing beams and their known distance,
   // the case readings, and the power going off and on again each cycle.
   const auto recording = dir.path() / "runs" / "power-cycle.csv";
-  const io::MeasurementTable table = io::read_measurements_file(recording.string());
+  const io::MeasurementTable table = io::read_measured_data_file(recording.string());
   for (const char* column :
        {"time_s", "range_mm", "beam", "case_temp_c", "power", "true_range_mm"}) {
     EXPECT_NE(std::find(table.columns.begin(), table.columns.end(), column), table.columns.end())

@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "io/calibration_file.hpp"
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/socket/client.hpp"
 #include "realtime/recording_replay.hpp"
@@ -104,7 +104,7 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   realtime::CompensationPipeline pipeline = configured_pipeline(config);
   const std::vector<std::filesystem::path> files = recordings_in(dir.path());
   ASSERT_EQ(files.size(), 1u);
-  const io::MeasurementTable table = io::read_measurements_file(files[0].string());
+  const io::MeasurementTable table = io::read_measured_data_file(files[0].string());
   std::size_t compared = 0;
   std::size_t compensated_values = 0;
   realtime::replay_recording(
@@ -212,7 +212,7 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   EXPECT_EQ(replay.terminate(), 0) << replay.log();
 }
 
-// Recalibration from a recorded data set: the daemon trains in its worker thread while it keeps
+// Recalibration from a recording: the daemon trains in its worker thread while it keeps
 // publishing, writes the calibration atomically and swaps it in between two scans: the scans
 // go on without a gap, the later ones carry the new calibration's id, and the file written is
 // a complete calibration.
@@ -237,11 +237,16 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
   ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
   ASSERT_TRUE(
       subscriber.request({{"op", "subscribe"}, {"beams", {180, 180}}}, 10s).value("ok", false));
+  // A scan under the first calibration before the recalibration starts, so that the swap has
+  // scans on both sides however fast the training is.
+  const auto before = subscriber.read_message(30s);
+  ASSERT_TRUE(before.has_value()) << daemon.log();
+  ASSERT_EQ(scan_of(*before).at("calibration_id").get<int>(), 1);
   ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
   const nlohmann::json started = client.request({{"op", "recalibrate"}}, 10s);
   ASSERT_TRUE(started.value("ok", false)) << started.dump();
 
-  std::optional<std::uint64_t> previous;
+  std::optional<std::uint64_t> previous = scan_of(*before).at("sequence").get<std::uint64_t>();
   std::uint64_t first_new = 0;
   for (const auto until = std::chrono::steady_clock::now() + 120s;
        std::chrono::steady_clock::now() < until;) {
@@ -263,7 +268,7 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
   const nlohmann::json status = client.request({{"op", "status"}}, 10s);
   EXPECT_EQ(status["status"]["recalibration"].get<std::string>().rfind("done", 0), 0u)
       << status.dump();
-  // The file written is a whole calibration, trained on the data set.
+  // The file written is a whole calibration, trained on the recording.
   const core::Calibration written =
       io::read_calibration_file((dir.path() / "calibration.yaml").string());
   EXPECT_EQ(written.provenance.data_set, data.string());
@@ -335,7 +340,7 @@ TEST(DaemonEndToEnd, CompensatesWithACalibrationsExtension) {
   realtime::CompensationPipeline pipeline = configured_pipeline(config);
   const std::vector<std::filesystem::path> files = recordings_in(dir.path());
   ASSERT_EQ(files.size(), 1u);
-  const io::MeasurementTable table = io::read_measurements_file(files[0].string());
+  const io::MeasurementTable table = io::read_measured_data_file(files[0].string());
   std::size_t compared = 0;
   realtime::replay_recording(
       table, files[0].string(), pipeline, [&](const ipc::CompensatedScan& s) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -97,10 +98,44 @@ TEST(ScanJson, SpanOutsideTheScanIsAnError) {
   EXPECT_THROW(encode_scan(known_scan(), {3, 1}), core::InvalidInput);
 }
 
+TEST(ScanJson, DecodedScanIsTheEncodedOneWithNullAsNaN) {
+  const CompensatedScan s = known_scan();
+  const ReceivedScan r = decode_scan(nlohmann::json::parse(encode_scan(s, {1, 2})));
+  EXPECT_EQ(r.span, (BeamSpan{1, 2}));
+  EXPECT_EQ(r.scan.sequence, 12u);
+  EXPECT_EQ(r.scan.device_sequence, 10u);
+  EXPECT_EQ(r.scan.timestamp_ns, 1700000000123456789);
+  EXPECT_EQ(r.scan.junction_c, 41.5);
+  EXPECT_EQ(r.scan.junction_std_c, 0.25);
+  EXPECT_TRUE(std::isnan(r.scan.case_c));
+  EXPECT_EQ(r.scan.resolution_deg, 0.5);
+  EXPECT_EQ(r.scan.calibration_id, 3u);
+  ASSERT_EQ(r.scan.beams.size(), 3u);
+  const BeamValue& none = r.scan.beams[1];
+  EXPECT_EQ(none.raw_mm, 8183);
+  EXPECT_TRUE(std::isnan(none.compensated_mm));
+  EXPECT_TRUE(std::isnan(none.window_std_mm));  // infinite on the daemon's side: null
+  EXPECT_EQ(none.flags, kBeamNoEcho | kBeamUncalibrated | (1u << 9));
+  const BeamValue& third = r.scan.beams[2];
+  EXPECT_EQ(third.compensated_mm, 1987.125);
+  EXPECT_EQ(third.mode_count, 3);
+  EXPECT_EQ(third.most_probable_mode, 2);
+  EXPECT_EQ(third.mode_posterior, (std::array<float, kMaxModes>{0.1f, 0.2f, 0.7f, 0.0f}));
+}
+
+TEST(ScanJson, DecodingWhatIsNoScanObjectIsAnError) {
+  auto doc = nlohmann::json::parse(encode_scan(known_scan(), {0, 3}));
+  doc.erase("calibration_id");
+  EXPECT_THROW(decode_scan(doc), core::InvalidInput);
+  doc = nlohmann::json::parse(encode_scan(known_scan(), {0, 3}));
+  doc["beam_count"] = 2;  // three beams sent of a scan of two
+  EXPECT_THROW(decode_scan(doc), core::InvalidInput);
+}
+
 TEST(FlagNames, EveryNamedBitAndUnnamedOnes) {
   EXPECT_TRUE(beam_flag_names(0).empty());
   EXPECT_EQ(beam_flag_names(kBeamNoEcho | kBeamUncalibrated | kBeamTemperatureStale |
-                       kBeamWindowRestarting | kBeamChangeDetected | kBeamOutlier),
+                            kBeamWindowRestarting | kBeamChangeDetected | kBeamOutlier),
             (std::vector<std::string>{"no_echo", "uncalibrated", "temperature_stale",
                                       "window_restarting", "change_detected", "outlier"}));
   EXPECT_EQ(beam_flag_names(0x8040),

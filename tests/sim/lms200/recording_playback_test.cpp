@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 #include "io/measurement_table_builder.hpp"
 #include "io/recording_format.hpp"
 #include "tests/hal/lms2xx/link_harness.hpp"
@@ -196,7 +196,7 @@ TEST(RecordingPlayback, BadRecordingsAreRefusedNamingWhereAndWhat) {
   std::istringstream file(
       "# sensor: LMS200\n# beams: 361\n# start_angle_deg: 0\n# resolution_deg: 0.5\n"
       "time_s,range_mm,beam,case_temp_c\n0,,,22.5\n0,1000,361,\n");
-  const std::string beam_outside = message_of(io::read_measurements(file, "bad.csv"));
+  const std::string beam_outside = message_of(io::read_measured_data(file, "bad.csv"));
   EXPECT_NE(beam_outside.find("bad.csv:7"), std::string::npos) << beam_outside;
   EXPECT_NE(beam_outside.find("beam 361"), std::string::npos) << beam_outside;
 

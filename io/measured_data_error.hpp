@@ -12,10 +12,10 @@ namespace tofcomp::io {
 // The message reads "SOURCE:LINE: column COLUMN: REASON". ":LINE" is left out when line is 0
 // (a row of a table built in memory), "column COLUMN: " when the fault lies in no single column
 // (an empty file, a row with more cells than the header).
-class MeasurementFileError : public core::Error {
+class MeasuredDataFileError : public core::Error {
  public:
-  MeasurementFileError(std::string_view source, long line, std::string_view column,
-                       std::string_view reason);
+  MeasuredDataFileError(std::string_view source, long line, std::string_view column,
+                        std::string_view reason);
 
   const std::string& source() const { return source_; }
   long line() const { return line_; }  // 1-based line in the file; 0 when not from a file

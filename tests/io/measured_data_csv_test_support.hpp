@@ -10,26 +10,26 @@
 #include <sstream>
 #include <string>
 
-#include "io/measurement_csv.hpp"
+#include "io/measured_data_csv.hpp"
 
 namespace tofcomp::io::testing {
 
 inline MeasurementTable parse(const std::string& text) {
   std::istringstream in(text);
-  return read_measurements(in, "data.csv");
+  return read_measured_data(in, "data.csv");
 }
 
 inline std::string write(const MeasurementTable& table) {
   std::ostringstream out;
-  write_measurements(out, table, "out.csv");
+  write_measured_data(out, table, "out.csv");
   return out.str();
 }
 
 // The error reading `text` raises; fails the test if it raises none.
-inline std::optional<MeasurementFileError> read_error(const std::string& text) {
+inline std::optional<MeasuredDataFileError> read_error(const std::string& text) {
   try {
     parse(text);
-  } catch (const MeasurementFileError& error) {
+  } catch (const MeasuredDataFileError& error) {
     return error;
   }
   ADD_FAILURE() << "no error for:\n" << text;

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "measurement_csv_test_support.hpp"
+#include "measured_data_csv_test_support.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -80,11 +80,11 @@ void PrintTo(const BadFile& bad, std::ostream* out) {
   *out << bad.name;
 }
 
-class MeasurementCsvErrors : public ::testing::TestWithParam<BadFile> {};
+class MeasuredDataCsvErrors : public ::testing::TestWithParam<BadFile> {};
 
-TEST_P(MeasurementCsvErrors, NamesLineAndColumn) {
+TEST_P(MeasuredDataCsvErrors, NamesLineAndColumn) {
   const BadFile& bad = GetParam();
-  const std::optional<MeasurementFileError> error = testing::read_error(bad.text);
+  const std::optional<MeasuredDataFileError> error = testing::read_error(bad.text);
   ASSERT_TRUE(error);
   EXPECT_EQ(error->source(), "data.csv");
   EXPECT_EQ(error->line(), bad.line);
@@ -99,9 +99,10 @@ std::string case_name(const ::testing::TestParamInfo<BadFile>& param) {
   return param.param.name;
 }
 
-INSTANTIATE_TEST_SUITE_P(Reader, MeasurementCsvErrors, ::testing::ValuesIn(bad_files()), case_name);
+INSTANTIATE_TEST_SUITE_P(Reader, MeasuredDataCsvErrors, ::testing::ValuesIn(bad_files()),
+                         case_name);
 
-TEST(MeasurementCsvErrorType, IsACoreErrorWithTheWholeMessage) {
+TEST(MeasuredDataCsvErrorType, IsACoreErrorWithTheWholeMessage) {
   try {
     testing::parse(kHead + "0,12x,,,,,\n");
     FAIL() << "no error";
@@ -110,14 +111,14 @@ TEST(MeasurementCsvErrorType, IsACoreErrorWithTheWholeMessage) {
   }
 }
 
-TEST(MeasurementCsvErrorType, FileNameInTheMessage) {
+TEST(MeasuredDataCsvErrorType, FileNameInTheMessage) {
   const std::filesystem::path file =
       std::filesystem::path(::testing::TempDir()) / "measurement_error_file.csv";
   std::ofstream(file) << "time_s,range_mm\n0,1\n-1,2\n";
   try {
-    read_measurements_file(file);
+    read_measured_data_file(file);
     FAIL() << "no error";
-  } catch (const MeasurementFileError& error) {
+  } catch (const MeasuredDataFileError& error) {
     EXPECT_EQ(error.source(), file.string());
     EXPECT_EQ(error.line(), 3);
     EXPECT_EQ(error.column(), "time_s");
@@ -125,12 +126,12 @@ TEST(MeasurementCsvErrorType, FileNameInTheMessage) {
   std::filesystem::remove(file);
 }
 
-TEST(MeasurementCsvErrorType, MissingFileIsACoreError) {
+TEST(MeasuredDataCsvErrorType, MissingFileIsACoreError) {
   const std::string file = ::testing::TempDir() + "/no_such_measurement_file.csv";
   try {
-    read_measurements_file(file);
+    read_measured_data_file(file);
     FAIL() << "no error";
-  } catch (const MeasurementFileError&) {
+  } catch (const MeasuredDataFileError&) {
     FAIL() << "a missing file is no format error";
   } catch (const core::Error& error) {
     EXPECT_NE(std::string(error.what()).find(file), std::string::npos) << error.what();

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "io/measurement_series.hpp"
-#include "measurement_csv_test_support.hpp"
+#include "measured_data_csv_test_support.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -30,7 +30,7 @@ std::string with_crlf(const std::string& text) {
   return out;
 }
 
-TEST(MeasurementCsvRead, FormatDocumentExampleRows) {
+TEST(MeasuredDataCsvRead, FormatDocumentExampleRows) {
   const MeasurementTable t = parse(kFormatExample);
   ASSERT_EQ(t.metadata.size(), 2u);
   EXPECT_EQ(t.metadata[0].key, "sensor");
@@ -74,7 +74,7 @@ TEST(MeasurementCsvRead, FormatDocumentExampleRows) {
   EXPECT_FALSE(last.range_mm);
 }
 
-TEST(MeasurementCsvRead, FormatDocumentExampleSeries) {
+TEST(MeasuredDataCsvRead, FormatDocumentExampleSeries) {
   const MeasurementTable t = parse(kFormatExample);
 
   const BeamRanges beam0 = beam_ranges(t, 0);
@@ -95,7 +95,7 @@ TEST(MeasurementCsvRead, FormatDocumentExampleSeries) {
   EXPECT_TRUE(power_changes(t).empty());
 }
 
-TEST(MeasurementCsvRead, CrlfReadsAsLf) {
+TEST(MeasuredDataCsvRead, CrlfReadsAsLf) {
   const MeasurementTable lf = parse(kFormatExample);
   const MeasurementTable crlf = parse(with_crlf(kFormatExample));
   testing::expect_same_table(lf, crlf);
@@ -104,14 +104,14 @@ TEST(MeasurementCsvRead, CrlfReadsAsLf) {
   EXPECT_EQ(crlf.metadata[1].value, "white board, 3 m");  // no '\r' left in the value
 }
 
-TEST(MeasurementCsvRead, MixedLineEndsAndNoFinalLineEnd) {
+TEST(MeasuredDataCsvRead, MixedLineEndsAndNoFinalLineEnd) {
   const MeasurementTable t = parse("time_s,range_mm\r\n0,1\n0.5,2\r\n1,3");
   ASSERT_EQ(t.rows.size(), 3u);
   EXPECT_EQ(t.rows[2].range_mm, 3.0);
   EXPECT_EQ(t.rows[2].line, 4);
 }
 
-TEST(MeasurementCsvRead, ColumnsInAnyOrder) {
+TEST(MeasuredDataCsvRead, ColumnsInAnyOrder) {
   const MeasurementTable t = parse(
       "true_range_mm,ambient_c,beam,power,case_temp_c,range_mm,time_s\n"
       "1500,21.5,7,1,30.25,1499,2.5\n");
@@ -126,7 +126,7 @@ TEST(MeasurementCsvRead, ColumnsInAnyOrder) {
   EXPECT_EQ(row.true_range_mm, 1500.0);
 }
 
-TEST(MeasurementCsvRead, MetadataKeptInOrderAndRewritten) {
+TEST(MeasuredDataCsvRead, MetadataKeptInOrderAndRewritten) {
   const MeasurementTable t = parse(
       "# sensor: LMS200\n"
       "#target:wall, 3 m\n"
@@ -151,7 +151,7 @@ TEST(MeasurementCsvRead, MetadataKeptInOrderAndRewritten) {
             "0\n");
 }
 
-TEST(MeasurementCsvRead, RowsWithoutAnyValueAreIgnored) {
+TEST(MeasuredDataCsvRead, RowsWithoutAnyValueAreIgnored) {
   const MeasurementTable t = parse(
       "\n"
       "time_s,range_mm,note\n"
@@ -166,13 +166,13 @@ TEST(MeasurementCsvRead, RowsWithoutAnyValueAreIgnored) {
   EXPECT_EQ(t.rows[1].line, 7);
 }
 
-TEST(MeasurementCsvRead, RowWithTimeAloneIsKept) {
+TEST(MeasuredDataCsvRead, RowWithTimeAloneIsKept) {
   const MeasurementTable t = parse("time_s,range_mm\n0,\n");
   ASSERT_EQ(t.rows.size(), 1u);
   EXPECT_FALSE(t.rows[0].range_mm);
 }
 
-TEST(MeasurementCsvRead, BlanksAroundCellsAndNamesAreTrimmed) {
+TEST(MeasuredDataCsvRead, BlanksAroundCellsAndNamesAreTrimmed) {
   const MeasurementTable t = parse("time_s , range_mm,\tbeam\n 0.5 ,\t3000 , 4\n");
   EXPECT_EQ(t.columns, (std::vector<std::string>{"time_s", "range_mm", "beam"}));
   ASSERT_EQ(t.rows.size(), 1u);
@@ -181,13 +181,13 @@ TEST(MeasurementCsvRead, BlanksAroundCellsAndNamesAreTrimmed) {
   EXPECT_EQ(t.rows[0].beam, 4);
 }
 
-TEST(MeasurementCsvRead, ByteOrderMarkIsSkipped) {
+TEST(MeasuredDataCsvRead, ByteOrderMarkIsSkipped) {
   const MeasurementTable t = parse("\xEF\xBB\xBFtime_s,range_mm\n0,1\n");
   EXPECT_EQ(t.columns.front(), "time_s");
   EXPECT_TRUE(t.warnings.empty());
 }
 
-TEST(MeasurementCsvRead, UnknownColumnsOneWarningAndKeptOnRewrite) {
+TEST(MeasuredDataCsvRead, UnknownColumnsOneWarningAndKeptOnRewrite) {
   const std::string text =
       "# sensor: LMS200\n"
       "time_s,operator,range_mm,note\n"
@@ -205,13 +205,13 @@ TEST(MeasurementCsvRead, UnknownColumnsOneWarningAndKeptOnRewrite) {
   EXPECT_EQ(write(t), text);              // nothing lost, byte for byte
 }
 
-TEST(MeasurementCsvRead, RowWithOnlyUnknownValuesIsKept) {
+TEST(MeasuredDataCsvRead, RowWithOnlyUnknownValuesIsKept) {
   const MeasurementTable t = parse("time_s,note\n0,started\n");
   ASSERT_EQ(t.rows.size(), 1u);
   EXPECT_EQ(t.rows[0].unknown_cells, std::vector<std::string>{"started"});
 }
 
-TEST(MeasurementCsvRead, NumberForms) {
+TEST(MeasuredDataCsvRead, NumberForms) {
   const MeasurementTable t = parse("time_s,range_mm\n0,-0\n0,.5\n0,5.\n0,1e3\n0,1E+3\n0,5e-324\n");
   ASSERT_EQ(t.rows.size(), 6u);
   EXPECT_EQ(testing::bits(*t.rows[0].range_mm), testing::bits(-0.0));

@@ -1,7 +1,7 @@
-// MeasurementCsvWriter and write_measurements: the lines the reader reads back as they were.
+// MeasuredDataWriter and write_measured_data: the lines the reader reads back as they were.
 #include "io/atomic_file.hpp"
+#include "io/measured_data_csv.hpp"
 #include "io/measurement_cells.hpp"
-#include "io/measurement_csv.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -16,10 +16,9 @@ void append_optional_number(std::string& out, const std::optional<double>& value
 
 }  // namespace
 
-MeasurementCsvWriter::MeasurementCsvWriter(std::ostream& out,
-                                           const std::vector<MetadataLine>& metadata,
-                                           std::vector<std::string> columns,
-                                           std::string_view destination_name)
+MeasuredDataWriter::MeasuredDataWriter(std::ostream& out, const std::vector<MetadataLine>& metadata,
+                                       std::vector<std::string> columns,
+                                       std::string_view destination_name)
     : out_(out), destination_(destination_name), columns_(std::move(columns)) {
   const long header_line = static_cast<long>(metadata.size()) + 1;
   for (std::size_t m = 0; m < metadata.size(); ++m) {
@@ -44,7 +43,7 @@ MeasurementCsvWriter::MeasurementCsvWriter(std::ostream& out,
   put_line();
 }
 
-void MeasurementCsvWriter::write_row(const MeasurementRow& row) {
+void MeasuredDataWriter::write_row(const MeasurementRow& row) {
   const MeasurementPlace at{destination_, line_ + 1};
   for (const MeasurementColumn column : kMeasurementColumns) {
     if (has_cell(row, column) && !in_header_[index_of(column)]) {
@@ -73,7 +72,7 @@ void MeasurementCsvWriter::write_row(const MeasurementRow& row) {
   put_line();
 }
 
-void MeasurementCsvWriter::put_line() {
+void MeasuredDataWriter::put_line() {
   buffer_ += '\n';
   out_.write(buffer_.data(), static_cast<std::streamsize>(buffer_.size()));
   if (!out_) throw core::Error(destination_ + ": the stream failed while writing");
@@ -81,7 +80,7 @@ void MeasurementCsvWriter::put_line() {
   ++line_;
 }
 
-void MeasurementCsvWriter::append_known_cell(MeasurementColumn column, const MeasurementRow& row) {
+void MeasuredDataWriter::append_known_cell(MeasurementColumn column, const MeasurementRow& row) {
   switch (column) {
     case MeasurementColumn::Time:
       append_number_cell(buffer_, row.time_s);
@@ -107,15 +106,15 @@ void MeasurementCsvWriter::append_known_cell(MeasurementColumn column, const Mea
   }
 }
 
-void write_measurements(std::ostream& out, const MeasurementTable& table,
-                        std::string_view destination_name) {
-  MeasurementCsvWriter writer(out, table.metadata, table.columns, destination_name);
+void write_measured_data(std::ostream& out, const MeasurementTable& table,
+                         std::string_view destination_name) {
+  MeasuredDataWriter writer(out, table.metadata, table.columns, destination_name);
   for (const MeasurementRow& row : table.rows) writer.write_row(row);
 }
 
-void write_measurements_file(const std::filesystem::path& file, const MeasurementTable& table) {
+void write_measured_data_file(const std::filesystem::path& file, const MeasurementTable& table) {
   write_file_atomically(file,
-                        [&](std::ostream& out) { write_measurements(out, table, file.string()); });
+                        [&](std::ostream& out) { write_measured_data(out, table, file.string()); });
 }
 
 }  // namespace tofcomp::io

@@ -8,7 +8,7 @@
 #include <limits>
 #include <random>
 
-#include "measurement_csv_test_support.hpp"
+#include "measured_data_csv_test_support.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -73,7 +73,7 @@ MeasurementTable random_table(std::uint64_t seed) {
   return table;
 }
 
-TEST(MeasurementCsvRoundTrip, FormatDocumentExampleWritesShortestNumbers) {
+TEST(MeasuredDataCsvRoundTrip, FormatDocumentExampleWritesShortestNumbers) {
   const MeasurementTable t = parse(
       "# sensor: LMS200\n# target: white board, 3 m\n"
       "time_s,range_mm,case_temp_c,power,ambient_c,true_range_mm\n"
@@ -90,7 +90,7 @@ TEST(MeasurementCsvRoundTrip, FormatDocumentExampleWritesShortestNumbers) {
             "1,,22.0625,,22.01,\n");
 }
 
-TEST(MeasurementCsvRoundTrip, AwkwardDoublesSurviveBitForBit) {
+TEST(MeasuredDataCsvRoundTrip, AwkwardDoublesSurviveBitForBit) {
   MeasurementTable table;
   table.columns = {"time_s", "case_temp_c"};
   for (const double value : kAwkwardDoubles) table.rows.push_back({.case_temp_c = value});
@@ -101,7 +101,7 @@ TEST(MeasurementCsvRoundTrip, AwkwardDoublesSurviveBitForBit) {
   EXPECT_EQ(write(back), text);
 }
 
-TEST(MeasurementCsvRoundTrip, RandomTablesAreLosslessAndRewriteByteIdentical) {
+TEST(MeasuredDataCsvRoundTrip, RandomTablesAreLosslessAndRewriteByteIdentical) {
   for (std::uint64_t seed = 1; seed <= 25; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const MeasurementTable table = random_table(seed);
@@ -115,7 +115,7 @@ TEST(MeasurementCsvRoundTrip, RandomTablesAreLosslessAndRewriteByteIdentical) {
   }
 }
 
-TEST(MeasurementCsvRoundTrip, ForeignFileRewritesToAFixedPoint) {
+TEST(MeasuredDataCsvRoundTrip, ForeignFileRewritesToAFixedPoint) {
   // CRLF, blank rows, padded cells, redundant digits: the first write normalizes, the second
   // changes nothing.
   const MeasurementTable t = parse(
@@ -126,19 +126,19 @@ TEST(MeasurementCsvRoundTrip, ForeignFileRewritesToAFixedPoint) {
   EXPECT_EQ(write(parse(first)), first);
 }
 
-MeasurementFileError write_error(const MeasurementTable& table, std::string* written = nullptr) {
+MeasuredDataFileError write_error(const MeasurementTable& table, std::string* written = nullptr) {
   std::ostringstream out;
   try {
-    write_measurements(out, table, "out.csv");
-  } catch (const MeasurementFileError& error) {
+    write_measured_data(out, table, "out.csv");
+  } catch (const MeasuredDataFileError& error) {
     if (written) *written = out.str();
     return error;
   }
   ADD_FAILURE() << "no error; wrote:\n" << out.str();
-  return MeasurementFileError("", 0, "", "");
+  return MeasuredDataFileError("", 0, "", "");
 }
 
-TEST(MeasurementCsvWriterChecks, RefusesWhatTheReaderWouldRefuse) {
+TEST(MeasuredDataWriterChecks, RefusesWhatTheReaderWouldRefuse) {
   MeasurementTable table;
   table.metadata = {{"sensor", "LMS200"}};
   table.columns = {"time_s", "range_mm", "power"};
@@ -146,7 +146,7 @@ TEST(MeasurementCsvWriterChecks, RefusesWhatTheReaderWouldRefuse) {
                 {.time_s = 1.0, .power = false},
                 {.time_s = 2.0, .range_mm = 2.0}};
   std::string written;
-  const MeasurementFileError off = write_error(table, &written);
+  const MeasuredDataFileError off = write_error(table, &written);
   EXPECT_EQ(off.line(), 5);
   EXPECT_EQ(off.column(), "range_mm");
   // The stream holds the rows before it, a file the reader accepts.
@@ -160,18 +160,18 @@ TEST(MeasurementCsvWriterChecks, RefusesWhatTheReaderWouldRefuse) {
   EXPECT_EQ(write_error(table).column(), "time_s");
 }
 
-TEST(MeasurementCsvWriterChecks, RefusesValuesTheHeaderHasNoColumnFor) {
+TEST(MeasuredDataWriterChecks, RefusesValuesTheHeaderHasNoColumnFor) {
   MeasurementTable table;
   table.columns = {"time_s", "range_mm"};
   table.rows = {{.time_s = 0.0, .range_mm = 1.0, .case_temp_c = 22.0}};
-  const MeasurementFileError error = write_error(table);
+  const MeasuredDataFileError error = write_error(table);
   EXPECT_EQ(error.line(), 2);
   EXPECT_EQ(error.column(), "case_temp_c");
   table.rows = {{.time_s = 0.0, .beam = 3}};
   EXPECT_EQ(write_error(table).column(), "beam");
 }
 
-TEST(MeasurementCsvWriterChecks, RefusesTextThatWouldNotReadBack) {
+TEST(MeasuredDataWriterChecks, RefusesTextThatWouldNotReadBack) {
   MeasurementTable table;
   table.columns = {"time_s", "note"};
   table.rows = {{.time_s = 0.0, .unknown_cells = {"a,b"}}};
@@ -186,7 +186,7 @@ TEST(MeasurementCsvWriterChecks, RefusesTextThatWouldNotReadBack) {
   for (const MetadataLine& bad : std::vector<MetadataLine>{
            {"a:b", "c"}, {"key", "two\nlines"}, {" key", "v"}, {"key", "v "}}) {
     table.metadata = {{"fine", "yes"}, bad};
-    const MeasurementFileError error = write_error(table, &written);
+    const MeasuredDataFileError error = write_error(table, &written);
     EXPECT_EQ(error.line(), 2) << bad.key;
     EXPECT_EQ(written, "") << "nothing is written before the header is known good";
   }
@@ -202,32 +202,32 @@ TEST(MeasurementCsvWriterChecks, RefusesTextThatWouldNotReadBack) {
   }
 }
 
-TEST(MeasurementCsvFile, WrittenAtomicallyAndReadBack) {
+TEST(MeasuredDataCsvFile, WrittenAtomicallyAndReadBack) {
   const std::filesystem::path dir =
-      std::filesystem::path(::testing::TempDir()) / "measurement_csv_file";
+      std::filesystem::path(::testing::TempDir()) / "measured_data_csv_file";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::filesystem::path file = dir / "run.csv";
 
   const MeasurementTable table = random_table(99);
-  write_measurements_file(file, table);
-  expect_same_table(table, read_measurements_file(file));
+  write_measured_data_file(file, table);
+  expect_same_table(table, read_measured_data_file(file));
 
   MeasurementTable bad = table;
   bad.rows.back().time_s = -1e9;  // the last row goes back in time
-  EXPECT_THROW(write_measurements_file(file, bad), MeasurementFileError);
-  expect_same_table(table, read_measurements_file(file));  // the old file, whole
+  EXPECT_THROW(write_measured_data_file(file, bad), MeasuredDataFileError);
+  expect_same_table(table, read_measured_data_file(file));  // the old file, whole
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1)
       << "no temporary file left behind";
 
-  EXPECT_THROW(write_measurements_file(dir / "missing" / "run.csv", table), core::Error);
+  EXPECT_THROW(write_measured_data_file(dir / "missing" / "run.csv", table), core::Error);
   std::filesystem::remove_all(dir);
 }
 
 // A recording of daemon size: 361 beams per scan, a temperature reading every 75 scans, the
 // true ranges set on the first scan and holding. Times go in quarter seconds so that their text
 // is made here in the writer's own form: writing what was read must give the text back.
-TEST(MeasurementCsvLarge, DaemonSizedRecordingInOnePass) {
+TEST(MeasuredDataCsvLarge, DaemonSizedRecordingInOnePass) {
   constexpr int kBeams = 361;
   constexpr int kScans = 1500;  // 20 s: 541,500 ranges
   std::string text = "# sensor: LMS200\ntime_s,range_mm,beam,case_temp_c,true_range_mm\n";

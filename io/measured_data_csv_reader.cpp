@@ -1,10 +1,10 @@
-// read_measurements: one pass over the lines, metadata until the header, then data rows.
+// read_measured_data: one pass over the lines, metadata until the header, then data rows.
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 
+#include "io/measured_data_csv.hpp"
 #include "io/measurement_cells.hpp"
-#include "io/measurement_csv.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -143,7 +143,7 @@ class MeasurementCsvReader {
 
 }  // namespace
 
-MeasurementTable read_measurements(std::istream& in, std::string_view source_name) {
+MeasurementTable read_measured_data(std::istream& in, std::string_view source_name) {
   MeasurementCsvReader reader(source_name);
   std::string line;
   long number = 0;
@@ -157,10 +157,10 @@ MeasurementTable read_measurements(std::istream& in, std::string_view source_nam
   return std::move(reader).finish(number);
 }
 
-MeasurementTable read_measurements_file(const std::filesystem::path& file) {
+MeasurementTable read_measured_data_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw core::Error(file.string() + ": cannot be opened: " + std::strerror(errno));
-  return read_measurements(in, file.string());
+  return read_measured_data(in, file.string());
 }
 
 }  // namespace tofcomp::io

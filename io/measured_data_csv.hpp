@@ -12,30 +12,30 @@
 #include <string_view>
 #include <vector>
 
+#include "io/measured_data_error.hpp"
 #include "io/measurement_columns.hpp"
-#include "io/measurement_error.hpp"
 #include "io/measurement_rules.hpp"
 #include "io/measurement_table.hpp"
 
 namespace tofcomp::io {
 
 // Reads a whole file in one pass, in time and memory linear in its size. Throws
-// MeasurementFileError naming `source_name`, the 1-based line and the column at the first
+// MeasuredDataFileError naming `source_name`, the 1-based line and the column at the first
 // fault; core::Error if the stream fails. Unknown columns give one warning in the result.
-MeasurementTable read_measurements(std::istream& in, std::string_view source_name);
+MeasurementTable read_measured_data(std::istream& in, std::string_view source_name);
 
 // The same from a file; core::Error if it cannot be opened.
-MeasurementTable read_measurements_file(const std::filesystem::path& file);
+MeasurementTable read_measured_data_file(const std::filesystem::path& file);
 
 // Writes row by row, so a recording need not be held in memory. The metadata and the header go
 // out on construction. Every row is checked as the reader would check it (and for values in
 // columns the header lacks) before any of it is written, so the stream always holds a file the
-// reader accepts; a MeasurementFileError names the line the row would have taken. Throws
+// reader accepts; a MeasuredDataFileError names the line the row would have taken. Throws
 // core::Error when the stream fails. After an exception the writer must not be used again.
-class MeasurementCsvWriter {
+class MeasuredDataWriter {
  public:
-  MeasurementCsvWriter(std::ostream& out, const std::vector<MetadataLine>& metadata,
-                       std::vector<std::string> columns, std::string_view destination_name);
+  MeasuredDataWriter(std::ostream& out, const std::vector<MetadataLine>& metadata,
+                     std::vector<std::string> columns, std::string_view destination_name);
 
   void write_row(const MeasurementRow& row);
 
@@ -54,12 +54,12 @@ class MeasurementCsvWriter {
   std::string buffer_;
 };
 
-// The whole table with MeasurementCsvWriter; its warnings are not written.
-void write_measurements(std::ostream& out, const MeasurementTable& table,
-                        std::string_view destination_name = "output");
+// The whole table with MeasuredDataWriter; its warnings are not written.
+void write_measured_data(std::ostream& out, const MeasurementTable& table,
+                         std::string_view destination_name = "output");
 
 // Atomically (io/atomic_file.hpp): a temporary file beside `file`, fsync, rename. On any error
 // the previous file, if any, is left as it was.
-void write_measurements_file(const std::filesystem::path& file, const MeasurementTable& table);
+void write_measured_data_file(const std::filesystem::path& file, const MeasurementTable& table);
 
 }  // namespace tofcomp::io

@@ -1,4 +1,4 @@
-#include "io/measurement_error.hpp"
+#include "io/measured_data_error.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -15,8 +15,8 @@ std::string message(std::string_view source, long line, std::string_view column,
 
 }  // namespace
 
-MeasurementFileError::MeasurementFileError(std::string_view source, long line,
-                                           std::string_view column, std::string_view reason)
+MeasuredDataFileError::MeasuredDataFileError(std::string_view source, long line,
+                                             std::string_view column, std::string_view reason)
     : core::Error(message(source, line, column, reason)),
       source_(source),
       line_(line),
@@ -24,7 +24,7 @@ MeasurementFileError::MeasurementFileError(std::string_view source, long line,
       reason_(reason) {}
 
 void MeasurementPlace::fail(std::string_view column, std::string_view reason) const {
-  throw MeasurementFileError(source, line, column, reason);
+  throw MeasuredDataFileError(source, line, column, reason);
 }
 
 }  // namespace tofcomp::io
