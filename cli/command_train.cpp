@@ -4,6 +4,7 @@
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
 #include "cli/shared_options.hpp"
+#include "cli/structure_format.hpp"
 
 namespace tofcomp::cli {
 
@@ -20,16 +21,17 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
     run = [&common, data, training, output] {
       Progress progress("train", !common.quiet);
       const calibration::MeasuredData measured = data->load();
-      progress.update(0.1, "thermal fit, junction temperature, EM");
-      const calibration::Training t =
-          calibration::train_calibration(measured, training->settings());
+      const calibration::Training t = calibration::train_calibration(
+          measured, training->settings(), nullptr,
+          [&](double share, const std::string& stage) { progress.update(share, stage); });
       io::write_calibration_file(*output, t.calibration);
       progress.done("wrote " + *output);
       CommandResult result;
       result.json = {{"calibration", to_json(t.calibration)}, {"thermal_fit", to_json(t.thermal)},
+                     {"choices", choices_json(t)},
                      {"em_iterations", t.em.iterations},      {"em_converged", t.em.converged},
                      {"log_likelihood", t.em.log_likelihood}, {"output", *output}};
-      result.text = thermal_fit_text(t.thermal) + calibration_text(t.calibration) +
+      result.text = thermal_fit_text(t.thermal) + choices_text(t) + calibration_text(t.calibration) +
                     "EM: " + std::to_string(t.em.iterations) + " iterations" +
                     (t.em.converged ? "" : " (cap reached)") + "\nwrote " + *output + "\n";
       return result;

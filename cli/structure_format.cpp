@@ -23,6 +23,7 @@ nlohmann::json to_json(const core::KalmanNoiseFit& fit) {
     const core::KalmanNoiseLevelFit& l = fit.levels[i];
     levels[kLevelKeys[i]] = {{"value", l.value},
                              {"held", l.held},
+                             {"start_drop", l.start_drop},
                              {"profile_drop_down", l.profile_drop_down},
                              {"profile_drop_up", l.profile_drop_up}};
   }
@@ -83,7 +84,7 @@ std::string kalman_noise_text(const core::KalmanNoiseFit& fit) {
     const core::KalmanNoiseLevelFit& l = fit.levels[i];
     out += fmt::format("  {:<28} {:10.3g}  {}  (log-likelihood lost ×0.1: {:.1f}, ×10: {:.1f})\n",
                        core::kalman_noise_level_name(kLevels[i]), l.value,
-                       l.held ? "held: the log does not determine it" : "fitted", 
+                       l.held ? "held: the log does not reject the LMS 200 level" : "fitted",
                        l.profile_drop_down, l.profile_drop_up);
   }
   return out;

@@ -1,6 +1,8 @@
 #include "core/kalman_noise_fit.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 
@@ -8,6 +10,12 @@ namespace tofcomp::core {
 namespace {
 
 constexpr int kMinimumReadings = 3;
+// Rounds of sweeps, probes and holds before the search stops where it is.
+constexpr int kMaxRounds = 8;
+// A probe must gain this much log-likelihood to move the search.
+constexpr double kImprovement = 0.01;
+// After the first round a level is searched this many decades either side of where it is.
+constexpr double kLocalSearchDecades = 1.5;
 // 1 / golden ratio: the share of a bracket each golden-section step keeps.
 const double kGoldenShare = (std::sqrt(5.0) - 1.0) / 2.0;
 
@@ -45,11 +53,13 @@ class NoiseSearch {
     return evaluate(noise);
   }
 
-  // Golden-section search of one level's log10 over its bracket; sets the level in `noise`.
-  void maximize_level(ThermalNoise& noise, int level) {
+  // Golden-section search of one level's log10 over its bracket, or over `half_width` decades
+  // about its current value when that is finite; sets the level in `noise`.
+  void maximize_level(ThermalNoise& noise, int level, double half_width) {
     const auto i = static_cast<std::size_t>(level);
-    double lo = options_.min_log10[i];
-    double hi = options_.max_log10[i];
+    const double now = std::log10(level_of(noise, level));
+    double lo = std::max(options_.min_log10[i], now - half_width);
+    double hi = std::min(options_.max_log10[i], now + half_width);
     double x1 = hi - kGoldenShare * (hi - lo);
     double x2 = lo + kGoldenShare * (hi - lo);
     double f1 = at(noise, level, x1);
@@ -139,31 +149,55 @@ KalmanNoiseFit fit_kalman_noise(const CaseTemperatureLog& log, const ThermalPara
 
   std::array<bool, kKalmanNoiseLevelCount> held{};
   ThermalNoise noise = start;
-  // Fit the levels not held; judge each by its profile; hold the undetermined and fit again.
-  for (int round = 0; round < kKalmanNoiseLevelCount; ++round) {
-    noise = start;
+  const double step = std::log10(options.profile_factor);
+  // Fit the levels not held; probe each a factor up and down. A probe that is better moves the
+  // search there (the golden sections assume one maximum per level, which a noise level's
+  // profile need not have) and the sweeps go on; otherwise a level whose start value the log
+  // does not reject is held there, and the others are fitted again with it held.
+  for (int round = 0; round < kMaxRounds; ++round) {
     for (int sweep = 0; sweep < options.sweeps; ++sweep) {
       for (int level = 0; level < kKalmanNoiseLevelCount; ++level) {
-        if (!held[static_cast<std::size_t>(level)]) search.maximize_level(noise, level);
+        if (!held[static_cast<std::size_t>(level)]) {
+          // The first round searches each whole bracket; later ones near where the last ended.
+          search.maximize_level(noise, level,
+                                round == 0 ? std::numeric_limits<double>::infinity()
+                                           : kLocalSearchDecades);
+        }
       }
     }
     const double best = search.evaluate(noise);
+    bool moved = false;
+    for (int level = 0; level < kKalmanNoiseLevelCount; ++level) {
+      const auto i = static_cast<std::size_t>(level);
+      KalmanNoiseLevelFit& judged = fit.levels[i];
+      const double value = std::log10(level_of(noise, level));
+      const double down = std::max(value - step, options.min_log10[i]);
+      const double up = std::min(value + step, options.max_log10[i]);
+      judged.value = level_of(noise, level);
+      judged.held = held[i];
+      judged.profile_drop_down = best - search.at(noise, level, down);
+      judged.profile_drop_up = best - search.at(noise, level, up);
+      judged.start_drop = best - search.at(noise, level, std::log10(level_of(start, level)));
+      if (held[i] || moved) continue;
+      if (std::min(judged.profile_drop_down, judged.profile_drop_up) < -kImprovement) {
+        level_of(noise, level) = std::pow(
+            10.0, judged.profile_drop_down < judged.profile_drop_up ? down : up);
+        moved = true;
+      }
+    }
+    if (moved) continue;
+    // A level whose start the log does not reject (a likelihood-ratio test at 5 %) stays there.
     bool newly_held = false;
     for (int level = 0; level < kKalmanNoiseLevelCount; ++level) {
       const auto i = static_cast<std::size_t>(level);
       KalmanNoiseLevelFit& judged = fit.levels[i];
-      const double value = level_of(noise, level);
-      const double step = std::log10(options.profile_factor);
-      judged.value = value;
-      judged.profile_drop_down = best - search.at(noise, level, std::log10(value) - step);
-      judged.profile_drop_up = best - search.at(noise, level, std::log10(value) + step);
-      judged.held = held[i];
-      if (!held[i] && judged.profile_drop_down < options.determined_drop &&
-          judged.profile_drop_up < options.determined_drop) {
+      if (!held[i] && judged.start_drop < options.determined_drop) {
         held[i] = true;
         judged.held = true;
-        judged.value = level_of(fit.start, level);
+        judged.value = level_of(start, level);
+        level_of(noise, level) = level_of(start, level);
         newly_held = true;
+        break;  // one at a time: the others are fitted again with it held
       }
     }
     if (!newly_held) break;

@@ -7,12 +7,14 @@
 // level (golden section on a bounded bracket, a few sweeps): three smooth one-dimensional
 // problems, each cheap (one filter pass per evaluation).
 //
-// Not every level is seen by every log. A level whose profile likelihood moves by less than
-// NoiseFitOptions::determined_drop when it is taken a factor `profile_factor` up and down from
-// its maximum is not determined by the log: it is held at its starting value (the prior, e.g.
-// core/kalman.hpp's LMS 200 levels) and reported as held, and the others are fitted again with it
-// held. Typically the junction's own process noise q_j is held: the case sees the junction only
-// through R1 C2, so a case log hardly tells its level.
+// Not every level is seen by every log. A level whose starting value (the prior, e.g.
+// core/kalman.hpp's LMS 200 levels) the log does not reject, by a likelihood-ratio test
+// (the log-likelihood with that level back at its start loses less than
+// NoiseFitOptions::determined_drop), is held there and reported as held, and the others are
+// fitted again with it held: the data move a level only where they say the prior is wrong.
+// Typically the junction's own process noise q_j is held: the case sees the junction only
+// through R1 C2, so a case log hardly tells its level. Each level's profile a factor
+// `profile_factor` up and down is reported beside.
 #pragma once
 
 #include <array>
@@ -37,7 +39,7 @@ struct NoiseFitOptions {
   std::array<double, kKalmanNoiseLevelCount> max_log10 = {-2.0, 0.0, 0.0};
   int sweeps = 3;                      // coordinate sweeps over the free levels
   double log10_tolerance = 0.01;       // golden-section bracket width at which a search stops
-  double profile_factor = 10.0;        // how far up and down a level is moved to judge it
+  double profile_factor = 10.0;        // how far up and down a level's profile is reported
   double determined_drop = 1.92;       // χ²(1) at 0.95, halved: a likelihood-ratio test's edge
   // The prior at the first reading (core::prior_at_case_temperature).
   double prior_case_std_c = 0.5;
@@ -46,7 +48,8 @@ struct NoiseFitOptions {
 
 struct KalmanNoiseLevelFit {
   double value = 0.0;
-  bool held = false;           // not determined by the log: kept at the starting value
+  bool held = false;           // the log does not reject the starting value: kept there
+  double start_drop = 0.0;     // log-likelihood lost with this level back at its start
   double profile_drop_down = 0.0;  // log-likelihood lost at value / profile_factor
   double profile_drop_up = 0.0;    // and at value × profile_factor
 };

@@ -99,7 +99,7 @@ TEST(StructureSearch, SearchesTheFourierFamilyBeside) {
 
 TEST(StructureSearch, RefusesTooFewRangesOrFolds) {
   const auto truth = testing::mixture({0.0}, {1.0}, {1.0});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(400), kDistance,
+  const auto data = testing::draw_measurements(testing::cycling_temperature(60), kDistance,
                                                linear_bias, truth, 1);
   EXPECT_THROW(search_on(data), InvalidInput);
   StructureSearchOptions one_fold;
