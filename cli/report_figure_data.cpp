@@ -166,15 +166,15 @@ void write_error_moments(const std::filesystem::path& directory,
                          const std::vector<calibration::WindowEvaluation>& evaluations) {
   std::string csv =
       "window,estimator,count,mean_error_mm,error_variance_mm2,mean_absolute_error_mm,"
-      "absolute_error_variance_mm2,rmse_mm\n";
+      "absolute_error_variance_mm2,rmse_mm,cramer_rao_mae_mm\n";
   for (const calibration::WindowEvaluation& e : evaluations) {
     if (!e.has_truth) continue;
     const std::pair<const char*, const core::ErrorMoments*> rows[] = {
         {"raw_mean", &e.raw}, {"bias_corrected_mean", &e.bias_corrected}, {"em_distance", &e.em}};
     for (const auto& [name, m] : rows) {
-      csv += fmt::format("{},{},{},{},{},{},{},{}\n", e.window, name, m->count, m->mean_error,
+      csv += fmt::format("{},{},{},{},{},{},{},{},{}\n", e.window, name, m->count, m->mean_error,
                          m->error_variance, m->mean_absolute_error, m->absolute_error_variance,
-                         m->rmse);
+                         m->rmse, e.cramer_rao_mae_mm);
     }
   }
   io::write_file_atomically(directory / "moments.csv", csv);

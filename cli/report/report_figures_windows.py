@@ -65,7 +65,7 @@ def errors_over_time(data, directory):
                   f"{temperature_span(data.samples)}.")
 
 
-def _moments(data, directory, name, paper, columns, caption, zero_line):
+def _moments(data, directory, name, paper, columns, caption, zero_line, bound=False):
     m = data.moments
     if m is None or m["window"].size == 0:
         return None
@@ -77,6 +77,11 @@ def _moments(data, directory, name, paper, columns, caption, zero_line):
         ax.set_ylabel(label)
     if zero_line:
         axes[0].axhline(0.0, color="k", linewidth=0.8)
+    if bound and "cramer_rao_mae_mm" in m:
+        # The Cramér-Rao bound of d as a mean absolute error, computed by tofcomp per window.
+        chosen = m["estimator"] == "em_distance"
+        axes[0].plot(m["window"][chosen], m["cramer_rao_mae_mm"][chosen], linestyle="--",
+                     color="k", label="Cramér–Rao bound")
     legend_right(axes[0])
     axes[1].set_xlabel("window length (ranges in the test set)")
     axes[0].set_title(paper[0].upper() + paper[1:])
@@ -102,4 +107,6 @@ def absolute_error_moments(data, directory):
                      ("absolute_error_variance_mm2", "variance of |error| (mm²)")],
                     "Per window length, the mean (above) and variance (below) of each estimator's "
                     "absolute error over the held-out windows (the paper: MAE 3 → 1 mm, variance "
-                    "2.0 → 0.68 mm² on its LMS 200).", zero_line=False)
+                    "2.0 → 0.68 mm² on its LMS 200); dashed, the Cramér–Rao bound of d as a mean "
+                    "absolute error: no unbiased estimator does better on average.",
+                    zero_line=False, bound=True)

@@ -12,13 +12,8 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr double kDistance = 3000.0;  // mm
-
-// A smooth negative bias of a few mm over the junction range, the shape of the paper's Fig. 4.
-double cubic_bias(double t) {
-  const double x = t - 26.8;
-  return -4.0 * x + 0.8 * x * x + 0.35 * x * x * x;
-}
+constexpr double kDistance = testing::kSyntheticDistanceMm;
+using testing::cubic_bias;
 
 struct Trained {
   testing::SyntheticMeasurements data;

@@ -8,13 +8,8 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr double kDistance = 3000.0;  // mm
-
-// A bias with a bend a quadratic cannot follow: a cubic over the 24.8-28.8 °C junction range.
-double cubic_bias(double t) {
-  const double x = t - 26.8;
-  return -4.0 * x + 0.8 * x * x + 0.35 * x * x * x;
-}
+constexpr double kDistance = testing::kSyntheticDistanceMm;
+using testing::cubic_bias;
 
 double linear_bias(double t) { return 1.5 * (t - 26.8); }
 

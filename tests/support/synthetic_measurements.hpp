@@ -12,6 +12,14 @@
 
 namespace tofcomp::testing {
 
+// The distance the synthetic ranges are drawn at (mm), and a smooth negative bias of a few mm
+// over the paper's junction range (24.8-28.8 °C), the shape of its Fig. 4: a cubic.
+inline constexpr double kSyntheticDistanceMm = 3000.0;
+inline double cubic_bias(double t) {
+  const double x = t - 26.8;
+  return -4.0 * x + 0.8 * x * x + 0.35 * x * x * x;
+}
+
 struct SyntheticMeasurements {
   Eigen::VectorXd junction_temperature_c;
   Eigen::VectorXd range;      // y_k

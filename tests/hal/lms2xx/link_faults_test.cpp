@@ -89,8 +89,12 @@ TEST(Lms2xxLinkUnderFaults, OneFaultPerHundredTelegrams) {
   EXPECT_GE(host.link_losses, injected.hang_ups - unheard_hang_ups);
   EXPECT_LT(unheard_hang_ups, injected.hang_ups / 10) << "the host was closed for too many";
 
-  // Streaming again within 1 s of each hang-up and reset the test waited out: the device goes on
-  // injecting faults until stop(), and one in the last moments before it has no scan after it.
+  // Streaming again after each hang-up and reset the test waited out (the device goes on
+  // injecting faults until stop(), and one in the last moments before it has no scan after it),
+  // within the driver's own bound: a failed bring-up (its acknowledgements timing out) and the
+  // longest backoff. A bound from the settings, not from this machine's speed: under load a
+  // recovery here took up to 1.1 s of the 0.6 s it takes idle.
+  const Clock::duration recovery_bound = d.backoff_max + 10 * d.ack_timeout;
   Clock::duration slowest{};
   for (const auto& [fault, when] : link.faults()) {
     if (fault != emu::LinkFault::HangUp && fault != emu::LinkFault::Reset) continue;
@@ -99,7 +103,7 @@ TEST(Lms2xxLinkUnderFaults, OneFaultPerHundredTelegrams) {
                                     [&](const ReceivedRecord& r) { return r.when > when; });
     ASSERT_NE(after, link.received().end()) << "no scan after a " << emu::to_string(fault);
     slowest = std::max(slowest, after->when - when);
-    EXPECT_LT(after->when - when, 1s)
+    EXPECT_LT(after->when - when, recovery_bound)
         << "streaming resumed " << std::chrono::duration<double>(after->when - when).count()
         << " s after a " << emu::to_string(fault);
   }
