@@ -1,5 +1,6 @@
 #include "calibration/compensation.hpp"
 
+#include "calibration/covariates.hpp"
 #include "core/em_test.hpp"
 
 namespace tofcomp::calibration {
@@ -9,10 +10,12 @@ Compensation compensate(const MeasuredData& data, const core::Calibration& calib
   out.junction = junction_at_ranges(data, calibration.thermal, calibration.kalman_noise,
                                     calibration.ambient_c);
   out.bias_mm = calibration.model.bias(out.junction.junction_c);
+  out.noise_state = Eigen::VectorXi::Zero(data.range_mm.size());
   if (calibration.extension) {
-    const Eigen::VectorXd time_since_power_on_s = data.time_since_power_on();
-    out.bias_mm += calibration.extension->covariate_bias(
-        {data.range_time_s, out.junction.junction_c, time_since_power_on_s});
+    const core::CovariateTable covariates = covariate_table(data, out.junction);
+    out.bias_mm += calibration.extension->bias(covariates);
+    out.noise_state = calibration.extension->states(covariates);
+    out.mode_shift = calibration.extension->mode_shift(covariates);
   }
   return out;
 }
@@ -23,7 +26,8 @@ double held_out_log_likelihood(const MeasuredData& data, const core::Calibration
   const core::ExtendedMixture mixture = core::compensation_mixture(calibration);
   core::ExtendedResponsibilities scratch;
   return core::extended_e_step(data.range_mm - data.true_range_mm - compensation.bias_mm,
-                               mixture.bin_of(compensation.junction.junction_c), mixture, scratch);
+                               compensation.noise_state, compensation.mode_shift, mixture,
+                               scratch);
 }
 
 }  // namespace tofcomp::calibration

@@ -11,12 +11,15 @@
 namespace tofcomp::calibration {
 
 // The bias H θ̂ at each range of `data` under a calibration, from the smoothed junction
-// temperature.
+// temperature. With an extension (core/model_extension.hpp) the bias also carries its bias
+// terms, and each range has its noise state and its modes' offset shifts (K × M; empty without
+// mode-offset terms).
 struct Compensation {
   SmoothedJunction junction;
   Eigen::VectorXd bias_mm;
+  Eigen::VectorXi noise_state;
+  Eigen::MatrixXd mode_shift;
 };
-// With an extension (core/model_extension.hpp) the bias also carries its covariate term.
 Compensation compensate(const MeasuredData& data, const core::Calibration& calibration);
 
 // log p(y − d | calibration) over the ranges of data with a known distance: the held-out

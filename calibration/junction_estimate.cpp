@@ -63,11 +63,15 @@ SmoothedJunction junction_at_ranges(const MeasuredData& data,
   SmoothedJunction out;
   out.junction_c.resize(data.range_time_s.size());
   out.junction_std_c.resize(data.range_time_s.size());
+  out.range_in_history.resize(data.range_time_s.size());
+  out.history_time_s = times;
+  out.history_junction_c = smoothed.junction_mean_c;
   for (Eigen::Index g = 0; g < n; ++g) {
     const Instant& at = grid[static_cast<std::size_t>(g)];
     if (at.reading) continue;
     out.junction_c[at.index] = smoothed.junction_mean_c[g];
     out.junction_std_c[at.index] = smoothed.junction_std_c[g];
+    out.range_in_history[at.index] = static_cast<int>(g);
   }
   return out;
 }

@@ -13,9 +13,14 @@ namespace tofcomp::calibration {
 
 // Junction temperature at every range instant by the RTS smoother (§3.3, Eq. 7) over the
 // merged time grid of readings and ranges.
+// Also the smoothed junction over the whole merged grid (power-off gaps included), with each
+// range's place in it: the history the junction's lag runs over (core/covariate_table.hpp).
 struct SmoothedJunction {
   Eigen::VectorXd junction_c;
   Eigen::VectorXd junction_std_c;
+  Eigen::VectorXd history_time_s;
+  Eigen::VectorXd history_junction_c;
+  Eigen::VectorXi range_in_history;
 };
 SmoothedJunction junction_at_ranges(const MeasuredData& data,
                                     const core::ThermalParameters& thermal,

@@ -60,10 +60,9 @@ std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
     e.cramer_rao_mae_mm = core::cramer_rao_mae_mm(range_information, e.window);
     e.estimates =
         calibration.extension
-            ? core::estimate_windows(
-                  data.range_mm, compensation.bias_mm,
-                  calibration.extension->extended_mixture.bin_of(compensation.junction.junction_c),
-                  calibration.extension->extended_mixture, e.window, stride)
+            ? core::estimate_windows(data.range_mm, compensation.bias_mm,
+                                     compensation.noise_state, compensation.mode_shift,
+                                     calibration.extension->extended_mixture, e.window, stride)
             : core::estimate_windows(data.range_mm, compensation.bias_mm, calibration.model.mixture,
                                      e.window, stride);
     e.has_truth = has_truth;

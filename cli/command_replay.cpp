@@ -69,7 +69,7 @@ CommandResult replay(const ReplayOptions& o, const CommonOptions& common) {
   const double mean_change = compensated ? sum_abs_change / compensated : 0.0;
   const core::Calibration* calibration = pipeline.calibration();
   const bool extended = calibration && calibration->extension;
-  const std::string extension = extended ? io::effect_token(calibration->extension->effect) : "";
+  const std::string extension = extended ? calibration->extension->name() : "";
   result.json = {{"recording", o.recording},
                  {"config", config.source},
                  {"extension", extended ? nlohmann::json(extension) : nlohmann::json(nullptr)},

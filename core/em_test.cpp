@@ -24,7 +24,9 @@ double distance_m_step(MStep kind, const Eigen::VectorXd& corrected, const Eigen
 
 double distance_standard_deviation(const Eigen::Ref<const Eigen::VectorXd>& corrected, double d,
                                    const Eigen::MatrixXd& r, const Eigen::VectorXd& mean,
-                                   const Eigen::MatrixXd& precision) {
+                                   const Eigen::MatrixXd& precision,
+                                   const Eigen::Ref<const Eigen::MatrixXd>& mode_shift) {
+  const bool shifted = mode_shift.size() > 0;
   double observed = 0.0;
   double complete = 0.0;
   for (Eigen::Index k = 0; k < corrected.size(); ++k) {
@@ -32,7 +34,7 @@ double distance_standard_deviation(const Eigen::Ref<const Eigen::VectorXd>& corr
     double second = 0.0;
     double score = 0.0;
     for (Eigen::Index i = 0; i < mean.size(); ++i) {
-      const double e = corrected[k] - d - mean[i];
+      const double e = corrected[k] - d - mean[i] - (shifted ? mode_shift(k, i) : 0.0);
       const double p = precision(k, i);
       info += r(k, i) * p;
       second += r(k, i) * e * e * p * p;

@@ -42,9 +42,12 @@ struct EmTestResult {
 // range): Σ_k [Σ_i r_ki P_ki − Σ_i r_ki e_ki² P_ki² + (Σ_i r_ki e_ki P_ki)²], e_ki = x_k − d − μ_i,
 // with P_ki = 1/σ²_ki each range's mode precisions; the complete-data information Σ r P when
 // the observed one is not positive. Shared by the paper's EM testing and the extended one.
+// With mode_shift (K × M, or empty) mode i of range k sits at μ_i + shift_ki.
 double distance_standard_deviation(const Eigen::Ref<const Eigen::VectorXd>& corrected, double d,
                                    const Eigen::MatrixXd& responsibilities,
-                                   const Eigen::VectorXd& mean, const Eigen::MatrixXd& precision);
+                                   const Eigen::VectorXd& mean, const Eigen::MatrixXd& precision,
+                                   const Eigen::Ref<const Eigen::MatrixXd>& mode_shift =
+                                       Eigen::MatrixXd(0, 0));
 
 // The checks every EM test makes of its arguments: y and bias of one length K ≥ 1, finite, and
 // options and a warm start that can run. Throws InvalidInput naming the first failure.

@@ -64,13 +64,18 @@ WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
 
 WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
                                  const Eigen::Ref<const Eigen::VectorXd>& bias,
-                                 const Eigen::Ref<const Eigen::VectorXi>& bin,
+                                 const Eigen::Ref<const Eigen::VectorXi>& state,
+                                 const Eigen::Ref<const Eigen::MatrixXd>& mode_shift,
                                  const ExtendedMixture& noise, Eigen::Index window,
                                  Eigen::Index stride, const EmTestOptions& options) {
-  require_same_length(y.size(), "y", bin.size(), "temperature bins");
+  require_same_length(y.size(), "y", state.size(), "noise states");
+  const bool shifted = mode_shift.size() > 0;
+  if (shifted) require_same_length(y.size(), "y", mode_shift.rows(), "mode shifts");
   return window_loop(y, bias, window, stride, [&](Eigen::Index first, std::optional<double> warm) {
-    return test_extended_em(y.segment(first, window), bias.segment(first, window),
-                            bin.segment(first, window), noise, options, warm);
+    return test_extended_em(
+        y.segment(first, window), bias.segment(first, window), state.segment(first, window),
+        shifted ? Eigen::MatrixXd(mode_shift.middleRows(first, window)) : Eigen::MatrixXd(0, 0),
+        noise, options, warm);
   });
 }
 

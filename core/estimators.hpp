@@ -31,10 +31,12 @@ WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
                                  Eigen::Index stride, const EmTestOptions& options = {});
 
 // The same windows with the extended mixture of core/extended_mixture.hpp (EM testing by
-// core/extended_em.hpp), `bin` holding each range's junction-temperature bin.
+// core/extended_em.hpp), each range with its noise state and its mode offset shifts (K × M, or
+// empty for none).
 WindowEstimates estimate_windows(const Eigen::Ref<const Eigen::VectorXd>& y,
                                  const Eigen::Ref<const Eigen::VectorXd>& bias,
-                                 const Eigen::Ref<const Eigen::VectorXi>& bin,
+                                 const Eigen::Ref<const Eigen::VectorXi>& state,
+                                 const Eigen::Ref<const Eigen::MatrixXd>& mode_shift,
                                  const ExtendedMixture& noise, Eigen::Index window,
                                  Eigen::Index stride, const EmTestOptions& options = {});
 

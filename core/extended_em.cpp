@@ -13,14 +13,17 @@ namespace tofcomp::core {
 namespace {
 
 constexpr double kMinimumMass = 1e-9;
+// The outlier weight stays inside (0, ½]: a component that took more would not be outliers.
+constexpr double kMinimumOutlierWeight = 1e-12;
+constexpr double kMaximumOutlierWeight = 0.5;
 
-// w_ki = r_ki / σ²_{b(k),i}: the weights of the (θ, μ) and d steps.
-Eigen::MatrixXd precision_weights(const Eigen::MatrixXd& r, const Eigen::VectorXi& bin,
+// w_ki = r_ki / σ²_{s(k),i}: the weights of the mean-structure and d steps.
+Eigen::MatrixXd precision_weights(const Eigen::MatrixXd& r, const Eigen::VectorXi& state,
                                   const ExtendedMixture& m) {
   Eigen::MatrixXd w(r.rows(), r.cols());
   for (Eigen::Index k = 0; k < r.rows(); ++k) {
     for (Eigen::Index i = 0; i < r.cols(); ++i) {
-      w(k, i) = r(k, i) / m.variance(bin[k], static_cast<int>(i));
+      w(k, i) = r(k, i) / m.variance(state[k], static_cast<int>(i));
     }
   }
   return w;
@@ -33,39 +36,47 @@ void require_mass(double mass, const std::string& what) {
   }
 }
 
-// σ², π (per bin where the model has bins), the transition matrix and ε in closed form.
-void update_noise(const Eigen::VectorXd& e, const Eigen::VectorXi& bin,
-                  const ExtendedResponsibilities& r, double floor, ExtendedMixture& m) {
+// σ², π (per bin where the model has bins), the transition matrix and ε in closed form, from
+// the residuals e_k = y_k − X_k θ and each mode's shifted offset.
+void update_noise(const Eigen::VectorXd& e, const Eigen::MatrixXd& shift,
+                  const Eigen::VectorXi& state, const ExtendedResponsibilities& r, double floor,
+                  ExtendedMixture& m) {
   const int modes = m.modes.modes();
-  const int bins = m.bins();
-  Eigen::MatrixXd mass = Eigen::MatrixXd::Zero(bins, modes);
-  Eigen::MatrixXd square = Eigen::MatrixXd::Zero(bins, modes);
+  const int variance_states = m.variance_states();
+  Eigen::MatrixXd weight_mass = Eigen::MatrixXd::Zero(m.weight_states(), modes);
+  Eigen::MatrixXd variance_mass = Eigen::MatrixXd::Zero(variance_states, modes);
+  Eigen::MatrixXd square = Eigen::MatrixXd::Zero(variance_states, modes);
+  const bool shifted = shift.size() > 0;
   for (Eigen::Index k = 0; k < e.size(); ++k) {
+    const int weight_bin = state[k] / variance_states;
+    const int variance_bin = state[k] % variance_states;
     for (int i = 0; i < modes; ++i) {
-      const double centred = e[k] - m.modes.mean[i];
-      mass(bin[k], i) += r.mode(k, i);
-      square(bin[k], i) += r.mode(k, i) * centred * centred;
+      const double centred = e[k] - m.modes.mean[i] - (shifted ? shift(k, i) : 0.0);
+      const double resp = r.mode(k, i);
+      weight_mass(weight_bin, i) += resp;
+      variance_mass(variance_bin, i) += resp;
+      square(variance_bin, i) += resp * centred * centred;
     }
   }
-  const Eigen::RowVectorXd mode_mass = mass.colwise().sum();
+  const Eigen::RowVectorXd mode_mass = variance_mass.colwise().sum();
   for (int i = 0; i < modes; ++i) {
     require_mass(mode_mass[i], "mode " + std::to_string(i + 1));
     m.modes.variance[i] = std::max(square.col(i).sum() / mode_mass[i], floor);
   }
   m.modes.weight = (mode_mass / mode_mass.sum()).transpose();
-  if (m.bin_variance.size() > 0) {
-    for (int b = 0; b < bins; ++b) {
+  if (m.variance_bins) {
+    for (int b = 0; b < variance_states; ++b) {
       for (int i = 0; i < modes; ++i) {
-        require_mass(mass(b, i), "mode " + std::to_string(i + 1) + " in temperature bin " +
-                                     std::to_string(b + 1));
-        m.bin_variance(b, i) = std::max(square(b, i) / mass(b, i), floor);
+        require_mass(variance_mass(b, i),
+                     "mode " + std::to_string(i + 1) + " in spread bin " + std::to_string(b + 1));
+        m.variance_bins->table(b, i) = std::max(square(b, i) / variance_mass(b, i), floor);
       }
     }
   }
-  if (m.bin_weight.size() > 0) {
-    for (int b = 0; b < bins; ++b) {
-      require_mass(mass.row(b).sum(), "temperature bin " + std::to_string(b + 1));
-      m.bin_weight.row(b) = mass.row(b) / mass.row(b).sum();
+  if (m.weight_bins) {
+    for (int b = 0; b < m.weight_states(); ++b) {
+      require_mass(weight_mass.row(b).sum(), "weight bin " + std::to_string(b + 1));
+      m.weight_bins->table.row(b) = weight_mass.row(b) / weight_mass.row(b).sum();
     }
   }
   if (m.transition.size() > 0) {
@@ -76,35 +87,73 @@ void update_noise(const Eigen::VectorXd& e, const Eigen::VectorXi& bin,
     }
   }
   if (m.outlier_weight > 0.0) {
-    m.outlier_weight = std::clamp(r.outlier.mean(), 1e-12, 0.5);
+    m.outlier_weight =
+        std::clamp(r.outlier.mean(), kMinimumOutlierWeight, kMaximumOutlierWeight);
+  }
+}
+
+void validate_design(const ExtendedDesign& design, Eigen::Index k,
+                     const ExtendedParameters& start) {
+  require_same_length(design.shared.rows(), "the shared design (rows)", k, "y - d");
+  require_same_length(design.state.size(), "noise states", k, "y - d");
+  require_same_length(start.theta.size(), "theta", design.shared.cols(), "the shared design");
+  require_finite(design.shared, "the shared design");
+  const auto modes = static_cast<std::size_t>(start.model.modes.modes());
+  if (design.mode_columns.size() != modes || start.mode_coefficients.size() != modes) {
+    throw InvalidInput("extended EM: one column block and one coefficient vector per mode");
+  }
+  for (std::size_t i = 0; i < modes; ++i) {
+    const Eigen::MatrixXd& z = design.mode_columns[i];
+    if (z.size() > 0) require_same_length(z.rows(), "a mode's columns (rows)", k, "y - d");
+    require_finite(z, "a mode's columns");
+    if (start.mode_coefficients[i].size() != z.cols()) {
+      throw InvalidInput("extended EM: mode " + std::to_string(i + 1) +
+                         "'s coefficients do not match its columns");
+    }
+  }
+  if (design.state.size() > 0 &&
+      (design.state.minCoeff() < 0 || design.state.maxCoeff() >= start.model.states())) {
+    throw InvalidInput("extended EM: a noise state is out of range");
   }
 }
 
 }  // namespace
 
-ExtendedEmResult train_extended_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
+Eigen::MatrixXd mode_shifts(const ExtendedDesign& design,
+                            const std::vector<Eigen::VectorXd>& mode_coefficients) {
+  const Eigen::Index k = design.state.size();
+  Eigen::MatrixXd out;
+  for (std::size_t i = 0; i < design.mode_columns.size(); ++i) {
+    const Eigen::MatrixXd& z = design.mode_columns[i];
+    if (z.size() == 0) continue;
+    if (out.size() == 0) {
+      out = Eigen::MatrixXd::Zero(k, static_cast<Eigen::Index>(design.mode_columns.size()));
+    }
+    out.col(static_cast<Eigen::Index>(i)) = z * mode_coefficients[i];
+  }
+  return out;
+}
+
+ExtendedEmResult train_extended_em(const ExtendedDesign& design,
                                    const Eigen::Ref<const Eigen::VectorXd>& y_minus_d,
-                                   const Eigen::Ref<const Eigen::VectorXi>& bin_in,
-                                   const Eigen::VectorXd& theta_start, const ExtendedMixture& start,
+                                   const ExtendedParameters& start,
                                    const ExtendedEmOptions& options) {
-  require_same_length(h.rows(), "H (rows)", y_minus_d.size(), "y - d");
-  require_same_length(theta_start.size(), "theta", h.cols(), "H (columns)");
-  require_finite(h, "H");
   require_finite(y_minus_d, "y - d");
-  start.validate();
+  validate_design(design, y_minus_d.size(), start);
+  start.model.validate();
   if (options.max_iterations < 1) throw InvalidInput("extended EM needs max_iterations >= 1");
   const Eigen::VectorXd y = y_minus_d;
-  const Eigen::VectorXi bin = bin_in;
   const auto k = static_cast<double>(y.size());
 
   ExtendedEmResult result;
-  result.theta = theta_start;
-  result.model = start;
+  result.fit = start;
   Eigen::MatrixXd scratch;
   double previous = -std::numeric_limits<double>::infinity();
   for (;;) {
+    const Eigen::MatrixXd shift = mode_shifts(design, result.fit.mode_coefficients);
     const double log_likelihood =
-        extended_e_step(y - h * result.theta, bin, result.model, result.responsibilities);
+        extended_e_step(y - design.shared * result.fit.theta, design.state, shift,
+                        result.fit.model, result.responsibilities);
     result.log_likelihood_trace.push_back(log_likelihood);
     result.log_likelihood = log_likelihood;
     if (std::abs(log_likelihood - previous) <= options.log_likelihood_tolerance * k) {
@@ -113,13 +162,17 @@ ExtendedEmResult train_extended_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
     }
     if (result.iterations == options.max_iterations) break;
     previous = log_likelihood;
-    // M-step: (θ, μ) at the previous variances, then the rest of the noise.
-    const Eigen::MatrixXd w = precision_weights(result.responsibilities.mode, bin, result.model);
-    BiasAndOffsets solved = solve_bias_and_offsets(h, y, w, scratch);
-    result.theta = std::move(solved.theta);
-    result.model.modes.mean = std::move(solved.mean);
-    update_noise(y - h * result.theta, bin, result.responsibilities, options.variance_floor,
-                 result.model);
+    // M-step: the mean structure at the previous variances, then the rest of the noise.
+    const Eigen::MatrixXd w =
+        precision_weights(result.responsibilities.mode, design.state, result.fit.model);
+    MeanStructure solved =
+        solve_mean_structure(design.shared, design.mode_columns, y, w, scratch);
+    result.fit.theta = std::move(solved.theta);
+    result.fit.model.modes.mean = std::move(solved.mean);
+    result.fit.mode_coefficients = std::move(solved.mode_coefficients);
+    update_noise(y - design.shared * result.fit.theta,
+                 mode_shifts(design, result.fit.mode_coefficients), design.state,
+                 result.responsibilities, options.variance_floor, result.fit.model);
     ++result.iterations;
   }
   return result;
@@ -127,55 +180,41 @@ ExtendedEmResult train_extended_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
 
 EmTestResult test_extended_em(const Eigen::Ref<const Eigen::VectorXd>& y,
                               const Eigen::Ref<const Eigen::VectorXd>& bias,
-                              const Eigen::Ref<const Eigen::VectorXi>& bin_in,
+                              const Eigen::Ref<const Eigen::VectorXi>& state_in,
+                              const Eigen::Ref<const Eigen::MatrixXd>& shift_in,
                               const ExtendedMixture& model, const EmTestOptions& options,
                               std::optional<double> initial_distance) {
   validate_test_arguments(y, bias, options, initial_distance);
-  require_same_length(y.size(), "y", bin_in.size(), "temperature bins");
+  require_same_length(y.size(), "y", state_in.size(), "noise states");
   model.validate();
   const Eigen::VectorXd x = y - bias;
-  const Eigen::VectorXi bin = bin_in;
+  const Eigen::VectorXi state = state_in;
+  const Eigen::MatrixXd shift = shift_in;
+  const bool shifted = shift.size() > 0;
   ExtendedResponsibilities r;
   EmTestResult result;
   double d = initial_distance ? *initial_distance : x.mean() - model.modes.mean_offset();
   d = iterate_distance(
-      d, options, result, [&](double at) { return extended_e_step(x.array() - at, bin, model, r); },
+      d, options, result,
+      [&](double at) { return extended_e_step(x.array() - at, state, shift, model, r); },
       [&] {
-        const Eigen::MatrixXd w = precision_weights(r.mode, bin, model);
+        const Eigen::MatrixXd w = precision_weights(r.mode, state, model);
         const double total = w.sum();
         if (!(total > 0.0)) {
           throw NumericalError("EM testing: every range of the window is taken for an outlier");
         }
-        return (w.rowwise().sum().dot(x) - w.colwise().sum().dot(model.modes.mean)) / total;
+        double offsets = w.colwise().sum().dot(model.modes.mean);
+        if (shifted) offsets += w.cwiseProduct(shift).sum();
+        return (w.rowwise().sum().dot(x) - offsets) / total;
       });
   result.distance = d;
   Eigen::MatrixXd precision(x.size(), model.modes.modes());
   for (Eigen::Index k = 0; k < x.size(); ++k) {
-    for (int i = 0; i < model.modes.modes(); ++i) precision(k, i) = 1.0 / model.variance(bin[k], i);
+    for (int i = 0; i < model.modes.modes(); ++i) precision(k, i) = 1.0 / model.variance(state[k], i);
   }
-  result.distance_std = distance_standard_deviation(x, d, r.mode, model.modes.mean, precision);
+  result.distance_std = distance_standard_deviation(x, d, r.mode, model.modes.mean, precision, shift);
   result.responsibilities = std::move(r.mode);
   return result;
-}
-
-Eigen::VectorXd quantile_edges(const Eigen::Ref<const Eigen::VectorXd>& values, int bins) {
-  if (bins < 1) throw InvalidInput("quantile edges need at least one bin");
-  if (values.size() < bins) throw InvalidInput("fewer values than bins");
-  require_finite(values, "values");
-  std::vector<double> sorted(values.data(), values.data() + values.size());
-  std::sort(sorted.begin(), sorted.end());
-  Eigen::VectorXd edges(bins - 1);
-  for (int b = 1; b < bins; ++b) {
-    edges[b - 1] = sorted[static_cast<std::size_t>(sorted.size() * static_cast<std::size_t>(b) /
-                                                   static_cast<std::size_t>(bins))];
-  }
-  for (Eigen::Index b = 1; b < edges.size(); ++b) {
-    if (!(edges[b] > edges[b - 1])) {
-      throw InvalidInput("the values have too few distinct levels for " + std::to_string(bins) +
-                         " bins");
-    }
-  }
-  return edges;
 }
 
 }  // namespace tofcomp::core

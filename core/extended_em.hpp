@@ -1,14 +1,18 @@
-// EM training (§5) and testing (§6) of Eq. 8 with the extended mixture of
-// core/extended_mixture.hpp. Both keep the paper's closed forms:
-//   E-step  the responsibilities of the extended mixture (forward-backward under a chain);
-//   M-step  (θ, μ) jointly by weighted least squares with weights r_ki / σ²_{b(k),i}
-//           (core/mode_regression.hpp, as the paper's exact step), then per bin (or per mode)
-//           σ², π in closed form, the transition matrix from the expected transition counts,
-//           the outlier weight as the mean outlier responsibility (its density stays fixed);
-//   testing d = Σ_k Σ_i w_ki (x_k − μ_i) / Σ_k Σ_i w_ki, x_k = y_k − H_k θ̂, w_ki = r_ki/σ²_ki.
+// EM training (§5) and testing (§6) of Eq. 8 extended by terms of the grammar
+// (core/effect_grammar.hpp, core/model_extension.hpp). Both keep the paper's closed forms:
+//   E-step  the responsibilities of the extended mixture (core/extended_mixture.hpp; the
+//           forward-backward recursion under a chain), each mode at its shifted offset
+//           μ_i + Z_ki β_i and its state's variance;
+//   M-step  θ (the basis and the bias terms' columns), every μ_i and every mode's β_i jointly by
+//           weighted least squares with weights r_ki / σ²_{s(k),i} (core/mode_regression.hpp,
+//           as the paper's exact step), then per bin (or per mode) σ² and π in closed form, the
+//           transition matrix from the expected transition counts, the outlier weight as the
+//           mean outlier responsibility (its density stays fixed);
+//   testing d = Σ_k Σ_i w_ki (x_k − μ_i − s_ki) / Σ_k Σ_i w_ki, x_k = y_k − bias_k,
+//           w_ki = r_ki / σ²_ki, s_ki the mode shift.
 // Each step maximizes the expected complete-data log-likelihood over its block (an ECM), so the
-// observed log-likelihood never decreases. Which extensions are fitted is read from the start
-// model: a present block is re-estimated, an absent one stays absent.
+// observed log-likelihood never decreases. Which extensions are fitted is read from the start:
+// a present block is re-estimated, an absent one stays absent.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +24,20 @@
 
 namespace tofcomp::core {
 
+// The design of an extended fit on K ranges.
+struct ExtendedDesign {
+  Eigen::MatrixXd shared;                     // K × p: H(t̂^j), then the bias terms' columns
+  std::vector<Eigen::MatrixXd> mode_columns;  // M blocks of K × q_i (0 × 0: that mode's offset fixed)
+  Eigen::VectorXi state;                      // the noise state of each range (K)
+};
+
+// A starting point, and what a fit returns.
+struct ExtendedParameters {
+  Eigen::VectorXd theta;                           // p
+  std::vector<Eigen::VectorXd> mode_coefficients;  // M vectors of q_i (β_i)
+  ExtendedMixture model;
+};
+
 struct ExtendedEmOptions {
   double log_likelihood_tolerance = 1e-9;  // stop when |Δℓ| / K is below this
   int max_iterations = 300;
@@ -27,8 +45,7 @@ struct ExtendedEmOptions {
 };
 
 struct ExtendedEmResult {
-  Eigen::VectorXd theta;
-  ExtendedMixture model;
+  ExtendedParameters fit;
   ExtendedResponsibilities responsibilities;
   double log_likelihood = 0.0;
   int iterations = 0;
@@ -36,24 +53,26 @@ struct ExtendedEmResult {
   std::vector<double> log_likelihood_trace;  // at the parameters entering each E-step
 };
 
-// h: K × p design, y_minus_d: K, bin: K temperature bins of `start`. theta_start: p.
-// Throws InvalidInput on bad arguments and NumericalError when a mode or bin loses every range.
-ExtendedEmResult train_extended_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
+// Each mode's offset shift Z_ki β_i (K × M; empty when no mode has columns).
+Eigen::MatrixXd mode_shifts(const ExtendedDesign& design,
+                            const std::vector<Eigen::VectorXd>& mode_coefficients);
+
+// Throws InvalidInput on inconsistent arguments and NumericalError when a mode or bin loses
+// every range or a normal matrix is singular.
+ExtendedEmResult train_extended_em(const ExtendedDesign& design,
                                    const Eigen::Ref<const Eigen::VectorXd>& y_minus_d,
-                                   const Eigen::Ref<const Eigen::VectorXi>& bin,
-                                   const Eigen::VectorXd& theta_start, const ExtendedMixture& start,
+                                   const ExtendedParameters& start,
                                    const ExtendedEmOptions& options = {});
 
-// §6 with the extended mixture: d and the mode posteriors of one window. Starts from
+// §6 with the extended model: d and the mode posteriors of one window, each range with its bias
+// (H θ̂ and the bias terms), its noise state and its mode shifts (K × M, or empty). Starts from
 // initial_distance, else from mean(y − bias) − Σ π_i μ_i. The standard deviation is Louis'
 // observed information (per range; under a chain this ignores the chain's coupling).
 EmTestResult test_extended_em(const Eigen::Ref<const Eigen::VectorXd>& y,
                               const Eigen::Ref<const Eigen::VectorXd>& bias,
-                              const Eigen::Ref<const Eigen::VectorXi>& bin,
+                              const Eigen::Ref<const Eigen::VectorXi>& state,
+                              const Eigen::Ref<const Eigen::MatrixXd>& mode_shift,
                               const ExtendedMixture& model, const EmTestOptions& options = {},
                               std::optional<double> initial_distance = std::nullopt);
-
-// B − 1 interior edges splitting the values into B groups of (nearly) equal count.
-Eigen::VectorXd quantile_edges(const Eigen::Ref<const Eigen::VectorXd>& values, int bins);
 
 }  // namespace tofcomp::core

@@ -12,6 +12,7 @@ namespace tofcomp::core {
 namespace {
 
 constexpr double kRowSumTolerance = 1e-9;
+constexpr double kMinusInfinity = -std::numeric_limits<double>::infinity();
 
 void require_stochastic_rows(const Eigen::MatrixXd& m, const char* what) {
   require_finite(m, what);
@@ -35,41 +36,74 @@ void require_shape(const Eigen::MatrixXd& m, Eigen::Index rows, Eigen::Index col
   }
 }
 
-// log N(e; μ_i, σ²_{b,i}) for every range (rows) and mode (columns), without the prior.
+void validate_bins(const NoiseBins& bins, Parameter parameter, int modes, const char* what) {
+  if (bins.term.parameter != parameter || bins.term.form != Form::Bins) {
+    throw InvalidInput(std::string(what) + ": the term is " + bins.term.describe());
+  }
+  bins.term.validate();
+  require_shape(bins.table, bins.bins(), modes, what);
+}
+
+double log_of(double p) { return p > 0.0 ? std::log(p) : kMinusInfinity; }
+
+// log N(e; μ_i + shift_ki, σ²_{s,i}) (or with resolution h, the log-probability of the rounded
+// value) for every range (rows) and mode (columns), without the prior.
 void log_emission(const Eigen::Ref<const Eigen::VectorXd>& e,
-                  const Eigen::Ref<const Eigen::VectorXi>& bin, const ExtendedMixture& m,
-                  Eigen::MatrixXd& out) {
+                  const Eigen::Ref<const Eigen::VectorXi>& state,
+                  const Eigen::Ref<const Eigen::MatrixXd>& shift, const ExtendedMixture& m,
+                  double resolution, Eigen::MatrixXd& out) {
   const int modes = m.modes.modes();
+  const bool shifted = shift.size() > 0;
   out.resize(e.size(), modes);
-  for (Eigen::Index k = 0; k < e.size(); ++k) {
+  if (resolution > 0.0) {
+    for (Eigen::Index k = 0; k < e.size(); ++k) {
+      for (int i = 0; i < modes; ++i) {
+        out(k, i) = rounded_normal_log_probability(
+            e[k], m.modes.mean[i] + (shifted ? shift(k, i) : 0.0), m.variance(state[k], i),
+            resolution);
+      }
+    }
+    return;
+  }
+  // −½ log(2π σ²) and 1/(2σ²) of each state and mode, computed once.
+  const int states = m.states();
+  Eigen::MatrixXd log_norm(states, modes), half_precision(states, modes);
+  for (int s = 0; s < states; ++s) {
     for (int i = 0; i < modes; ++i) {
-      const double variance = m.variance(bin[k], i);
-      const double centred = e[k] - m.modes.mean[i];
-      out(k, i) =
-          -0.5 * std::log(2.0 * std::numbers::pi * variance) - centred * centred / (2.0 * variance);
+      const double variance = m.variance(s, i);
+      log_norm(s, i) = -0.5 * std::log(2.0 * std::numbers::pi * variance);
+      half_precision(s, i) = 0.5 / variance;
+    }
+  }
+  for (int i = 0; i < modes; ++i) {
+    const double mean = m.modes.mean[i];
+    for (Eigen::Index k = 0; k < e.size(); ++k) {
+      const double centred = e[k] - mean - (shifted ? shift(k, i) : 0.0);
+      out(k, i) = log_norm(state[k], i) - centred * centred * half_precision(state[k], i);
     }
   }
 }
 
-double log_of(double p) {
-  return p > 0.0 ? std::log(p) : -std::numeric_limits<double>::infinity();
-}
-
 // Independent draws (with bin weights and the outlier component): a log-sum-exp per range.
-double independent_e_step(const Eigen::Ref<const Eigen::VectorXi>& bin, const ExtendedMixture& m,
-                          Eigen::MatrixXd& log_joint, ExtendedResponsibilities& out) {
+// Fills the per-range log-likelihoods when asked.
+double independent_e_step(const Eigen::Ref<const Eigen::VectorXi>& state, const ExtendedMixture& m,
+                          double log_outlier_density, Eigen::MatrixXd& log_joint,
+                          ExtendedResponsibilities& out, Eigen::VectorXd* per_range) {
   const Eigen::Index k_count = log_joint.rows();
   const int modes = m.modes.modes();
   const double eps = m.outlier_weight;
-  const double log_outlier =
-      eps > 0.0 ? std::log(eps * m.outlier_density) : -std::numeric_limits<double>::infinity();
+  const double log_outlier = eps > 0.0 ? std::log(eps) + log_outlier_density : kMinusInfinity;
   const double log_inlier = std::log1p(-eps);
   out.outlier = Eigen::VectorXd::Zero(k_count);
+  Eigen::MatrixXd log_prior(m.states(), modes);
+  for (int s = 0; s < m.states(); ++s) {
+    for (int i = 0; i < modes; ++i) log_prior(s, i) = log_of(m.weight(s, i)) + log_inlier;
+  }
   double log_likelihood = 0.0;
   for (Eigen::Index k = 0; k < k_count; ++k) {
     double top = log_outlier;
     for (int i = 0; i < modes; ++i) {
-      log_joint(k, i) += log_of(m.weight(bin[k], i)) + log_inlier;
+      log_joint(k, i) += log_prior(state[k], i);
       top = std::max(top, log_joint(k, i));
     }
     double sum = 0.0;
@@ -81,16 +115,19 @@ double independent_e_step(const Eigen::Ref<const Eigen::VectorXi>& bin, const Ex
     sum += outlier;
     log_joint.row(k) /= sum;
     out.outlier[k] = outlier / sum;
-    log_likelihood += top + std::log(sum);
+    const double range_log_likelihood = top + std::log(sum);
+    if (per_range) (*per_range)[k] = range_log_likelihood;
+    log_likelihood += range_log_likelihood;
   }
   out.mode = std::move(log_joint);
   out.transitions.resize(0, 0);
   return log_likelihood;
 }
 
-// Mode persistence: the scaled forward-backward recursion (Rabiner 1989) over the chain.
-double chain_e_step(const ExtendedMixture& m, Eigen::MatrixXd& log_b,
-                    ExtendedResponsibilities& out) {
+// Mode persistence: the scaled forward-backward recursion (Rabiner 1989) over the chain. The
+// forward pass's scales are the one-step predictive likelihoods (per_range, when asked).
+double chain_e_step(const ExtendedMixture& m, Eigen::MatrixXd& log_b, ExtendedResponsibilities& out,
+                    Eigen::VectorXd* per_range, bool forward_only) {
   const Eigen::Index k_count = log_b.rows();
   const int modes = m.modes.modes();
   const Eigen::MatrixXd& a = m.transition;
@@ -112,8 +149,12 @@ double chain_e_step(const ExtendedMixture& m, Eigen::MatrixXd& log_b,
           "mode chain E-step: a range has zero probability under every mode the chain allows");
     }
     alpha.row(k) /= scale[k];
-    log_likelihood += std::log(scale[k]) + shift[k];
+    const double range_log_likelihood = std::log(scale[k]) + shift[k];
+    if (per_range) (*per_range)[k] = range_log_likelihood;
+    log_likelihood += range_log_likelihood;
   }
+  out.outlier = Eigen::VectorXd::Zero(k_count);
+  if (forward_only) return log_likelihood;
   Eigen::MatrixXd beta(k_count, modes);
   beta.row(k_count - 1).setOnes();
   out.transitions = Eigen::MatrixXd::Zero(modes, modes);
@@ -124,55 +165,78 @@ double chain_e_step(const ExtendedMixture& m, Eigen::MatrixXd& log_b,
   }
   out.mode = alpha.cwiseProduct(beta);
   out.mode.array().colwise() /= out.mode.rowwise().sum().array();
-  out.outlier = Eigen::VectorXd::Zero(k_count);
+  return log_likelihood;
+}
+
+void validate_e_step_arguments(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                               const Eigen::Ref<const Eigen::VectorXi>& state,
+                               const Eigen::Ref<const Eigen::MatrixXd>& mode_shift,
+                               const ExtendedMixture& model) {
+  require_same_length(residual.size(), "residual", state.size(), "noise states");
+  if (residual.size() == 0) throw InvalidInput("the E-step needs at least one range");
+  if (state.minCoeff() < 0 || state.maxCoeff() >= model.states()) {
+    throw InvalidInput("a noise state is out of range");
+  }
+  if (mode_shift.size() > 0 &&
+      (mode_shift.rows() != residual.size() || mode_shift.cols() != model.modes.modes())) {
+    throw InvalidInput("the mode shifts must be one row per range and one column per mode");
+  }
+}
+
+// The E-step's common part: emissions, then independent draws or the chain.
+double e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
+              const Eigen::Ref<const Eigen::VectorXi>& state,
+              const Eigen::Ref<const Eigen::MatrixXd>& mode_shift, const ExtendedMixture& model,
+              double resolution, ExtendedResponsibilities& out, Eigen::VectorXd* per_range,
+              bool forward_only) {
+  Eigen::MatrixXd log_b;
+  log_emission(residual, state, mode_shift, model, resolution, log_b);
+  const double log_outlier_density =
+      model.outlier_weight > 0.0
+          ? std::log(model.outlier_density) + (resolution > 0.0 ? std::log(resolution) : 0.0)
+          : 0.0;
+  const double log_likelihood =
+      model.transition.size() > 0
+          ? chain_e_step(model, log_b, out, per_range, forward_only)
+          : independent_e_step(state, model, log_outlier_density, log_b, out, per_range);
+  if (!std::isfinite(log_likelihood)) {
+    throw NumericalError("extended mixture log-likelihood is not finite");
+  }
   return log_likelihood;
 }
 
 }  // namespace
 
-Eigen::VectorXi ExtendedMixture::bin_of(const Eigen::Ref<const Eigen::VectorXd>& junction_c) const {
-  Eigen::VectorXi out(junction_c.size());
-  for (Eigen::Index k = 0; k < junction_c.size(); ++k) {
-    int b = 0;
-    while (b < bin_edges_c.size() && junction_c[k] >= bin_edges_c[b]) ++b;
-    out[k] = b;
-  }
-  return out;
+double ExtendedMixture::weight(int state, int mode) const {
+  return weight_bins ? weight_bins->table(state / variance_states(), mode) : modes.weight[mode];
 }
 
-double ExtendedMixture::weight(int bin, int mode) const {
-  return bin_weight.size() > 0 ? bin_weight(bin, mode) : modes.weight[mode];
-}
-
-double ExtendedMixture::variance(int bin, int mode) const {
-  return bin_variance.size() > 0 ? bin_variance(bin, mode) : modes.variance[mode];
+double ExtendedMixture::variance(int state, int mode) const {
+  return variance_bins ? variance_bins->table(state % variance_states(), mode)
+                       : modes.variance[mode];
 }
 
 void ExtendedMixture::validate() const {
   modes.validate();
   const int m = modes.modes();
-  require_finite(bin_edges_c, "temperature bin edges");
-  for (Eigen::Index b = 1; b < bin_edges_c.size(); ++b) {
-    if (!(bin_edges_c[b] > bin_edges_c[b - 1])) {
-      throw InvalidInput("temperature bin edges must increase strictly");
+  if (weight_bins) {
+    validate_bins(*weight_bins, Parameter::Weights, m, "binned weights");
+    require_stochastic_rows(weight_bins->table, "binned weights");
+  }
+  if (variance_bins) {
+    validate_bins(*variance_bins, Parameter::Spread, m, "binned variances");
+    require_finite(variance_bins->table, "binned variances");
+    if (!(variance_bins->table.array() > 0.0).all()) {
+      throw InvalidInput("binned variances must be positive");
     }
-  }
-  if (bin_weight.size() > 0) {
-    require_shape(bin_weight, bins(), m, "bin weights");
-    require_stochastic_rows(bin_weight, "bin weights");
-  }
-  if (bin_variance.size() > 0) {
-    require_shape(bin_variance, bins(), m, "bin variances");
-    require_finite(bin_variance, "bin variances");
-    if (!(bin_variance.array() > 0.0).all()) throw InvalidInput("bin variances must be positive");
   }
   if (transition.size() > 0) {
     require_shape(transition, m, m, "mode transition matrix");
     require_stochastic_rows(transition, "mode transition matrix");
-    if (bin_weight.size() > 0 || outlier_weight > 0.0) {
+    if (weight_bins || outlier_weight > 0.0) {
       throw InvalidInput(
-          "a mode transition matrix cannot be combined with temperature-dependent weights or an "
-          "outlier component");
+          "a mode transition matrix cannot be combined with binned weights or an outlier "
+          "component");
     }
   }
   if (!(outlier_weight >= 0.0 && outlier_weight < 1.0)) {
@@ -190,34 +254,35 @@ ExtendedMixture without_extensions(const MixtureParameters& modes) {
 }
 
 double extended_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
-                       const Eigen::Ref<const Eigen::VectorXi>& bin, const ExtendedMixture& model,
-                       ExtendedResponsibilities& out) {
-  require_same_length(residual.size(), "residual", bin.size(), "temperature bins");
-  if (residual.size() == 0) throw InvalidInput("the E-step needs at least one range");
-  if (bin.size() > 0 && (bin.minCoeff() < 0 || bin.maxCoeff() >= model.bins())) {
-    throw InvalidInput("a temperature bin index is out of range");
-  }
-  if (!model.has_extension()) {
+                       const Eigen::Ref<const Eigen::VectorXi>& state,
+                       const Eigen::Ref<const Eigen::MatrixXd>& mode_shift,
+                       const ExtendedMixture& model, ExtendedResponsibilities& out) {
+  validate_e_step_arguments(residual, state, mode_shift, model);
+  if (!model.has_extension() && mode_shift.size() == 0) {
     out.outlier = Eigen::VectorXd::Zero(residual.size());
     out.transitions.resize(0, 0);
     return mixture_e_step(residual, model.modes, out.mode);  // Eq. 18, Eq. 22
   }
-  Eigen::MatrixXd log_b;
-  log_emission(residual, bin, model, log_b);
-  const double log_likelihood = model.transition.size() > 0
-                                    ? chain_e_step(model, log_b, out)
-                                    : independent_e_step(bin, model, log_b, out);
-  if (!std::isfinite(log_likelihood)) {
-    throw NumericalError("extended mixture log-likelihood is not finite");
-  }
-  return log_likelihood;
+  return e_step(residual, state, mode_shift, model, 0.0, out, nullptr, false);
+}
+
+Eigen::VectorXd extended_log_scores(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                    const Eigen::Ref<const Eigen::VectorXi>& state,
+                                    const Eigen::Ref<const Eigen::MatrixXd>& mode_shift,
+                                    const ExtendedMixture& model, double resolution) {
+  validate_e_step_arguments(residual, state, mode_shift, model);
+  if (!(resolution >= 0.0)) throw InvalidInput("the ranges' resolution must be non-negative");
+  Eigen::VectorXd per_range(residual.size());
+  ExtendedResponsibilities scratch;
+  e_step(residual, state, mode_shift, model, resolution, scratch, &per_range, true);
+  return per_range;
 }
 
 int extension_parameters(const ExtendedMixture& model) {
   const int m = model.modes.modes();
   int extra = 0;
-  if (model.bin_weight.size() > 0) extra += (model.bins() - 1) * (m - 1);
-  if (model.bin_variance.size() > 0) extra += (model.bins() - 1) * m;
+  if (model.weight_bins) extra += (model.weight_bins->bins() - 1) * (m - 1);
+  if (model.variance_bins) extra += (model.variance_bins->bins() - 1) * m;
   if (model.transition.size() > 0) extra += m * (m - 1);
   if (model.outlier_weight > 0.0) extra += 1;
   return extra;

@@ -1,47 +1,61 @@
-// The mixture of Eq. 8 (the noise w_k) with the extensions the residual diagnosis can point to
-// (core/residual_diagnosis.hpp). The paper's w_k is drawn from M Gaussian lasing modes with
-// fixed weights, independently from range to range; the extended model relaxes that in four
-// ways, each of which keeps the E and M steps of §5-§6 in closed form:
-//   - temperature-dependent weights: π_i depends on the junction temperature's bin b(k)
-//     (B bins with edges from the training data), π_{b,i};
-//   - temperature-dependent spread: σ_i² depends on the bin, σ²_{b,i};
+// The mixture of Eq. 8 (the noise w_k) with the noise terms of the grammar
+// (core/effect_grammar.hpp). The paper's w_k is drawn from M Gaussian lasing modes with fixed
+// offsets, spreads and weights, independently from range to range; the extended mixture relaxes
+// each of these and keeps the E and M steps of §5-§6 in closed form:
+//   - weights per bin of a covariate: π_{b,i}, b the range's bin of that covariate;
+//   - spreads per bin of a covariate (maybe another one): σ²_{b',i};
+//   - one mode's offset moving with a covariate: μ_i + β f(c_k), given to the E-step as a per-range
+//     shift of each mode's offset (core/model_extension.hpp computes it from its mean terms);
 //   - mode persistence: the mode follows a Markov chain with transition matrix A (M × M)
-//     instead of independent Bernoulli draws; the E-step is the forward-backward recursion
-//     (scaled, O(K·M²)), the M-step counts expected transitions;
+//     instead of independent draws; the E-step is the forward-backward recursion (scaled,
+//     O(K·M²)), the M-step counts expected transitions;
 //   - outliers: one more component, uniform with density u over the residuals' span, weight ε:
 //     p(e) = ε u + (1 − ε) Σ_i π_i N(e; μ_i, σ_i²).
 // One more mode is the paper's own model with M + 1 modes (§4 says the M-modal case is
-// immediate) and needs nothing here. Without any extension the E-step is exactly the paper's
-// (Eq. 18, Eq. 22): mixture_e_step.
-// A Markov chain cannot be combined with temperature-dependent weights or the outlier component
-// here (validate() says so): the diagnosis names one effect at a time.
+// immediate) and needs nothing here. A range's weight bin and spread bin together are its noise
+// state, s = b_w · B_s + b_s; the E-step takes each range's state. Without any extension the
+// E-step is exactly the paper's (Eq. 18, Eq. 22): mixture_e_step.
+// A Markov chain cannot be combined with binned weights or the outlier component (validate()
+// says so): the chain's rows are the weights.
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 
+#include "core/effect_grammar.hpp"
 #include "core/gaussian_mixture.hpp"
 
 namespace tofcomp::core {
 
+// A noise parameter per bin of a covariate: the term (its covariate and its B − 1 edges) and
+// the B × M table (weights: each row sums to one; variances: positive).
+struct NoiseBins {
+  Term term;
+  Eigen::MatrixXd table;
+  int bins() const { return static_cast<int>(term.knots.size()) + 1; }
+};
+
 struct ExtendedMixture {
-  MixtureParameters modes;       // μ_i, σ_i², π_i (under a Markov chain, π is its initial law)
-  Eigen::VectorXd bin_edges_c;   // B − 1 increasing interior edges; empty: one bin
-  Eigen::MatrixXd bin_weight;    // B × M, each row sums to one; empty: modes.weight in every bin
-  Eigen::MatrixXd bin_variance;  // B × M, positive; empty: modes.variance in every bin
+  MixtureParameters modes;  // μ_i, σ_i², π_i (under a Markov chain, π is its initial law)
+  std::optional<NoiseBins> weight_bins;
+  std::optional<NoiseBins> variance_bins;
   Eigen::MatrixXd transition;    // M × M, each row sums to one; empty: independent draws
   double outlier_weight = 0.0;   // ε in [0, 1); 0: no outlier component
   double outlier_density = 0.0;  // u (1/mm), positive when ε > 0
 
-  int bins() const { return static_cast<int>(bin_edges_c.size()) + 1; }
-  bool has_extension() const {
-    return bin_weight.size() > 0 || bin_variance.size() > 0 || transition.size() > 0 ||
-           outlier_weight > 0.0;
+  int weight_states() const { return weight_bins ? weight_bins->bins() : 1; }
+  int variance_states() const { return variance_bins ? variance_bins->bins() : 1; }
+  // The number of noise states B_w · B_s (1 without bins).
+  int states() const { return weight_states() * variance_states(); }
+  int state(int weight_bin, int variance_bin) const {
+    return weight_bin * variance_states() + variance_bin;
   }
-  // The bin of each junction temperature (0..B−1).
-  Eigen::VectorXi bin_of(const Eigen::Ref<const Eigen::VectorXd>& junction_c) const;
-  // The parameters of mode i in bin b.
-  double weight(int bin, int mode) const;
-  double variance(int bin, int mode) const;
+  bool has_extension() const {
+    return weight_bins || variance_bins || transition.size() > 0 || outlier_weight > 0.0;
+  }
+  // The parameters of mode i in noise state s.
+  double weight(int state, int mode) const;
+  double variance(int state, int mode) const;
   // Throws InvalidInput naming the first inconsistency.
   void validate() const;
 };
@@ -55,12 +69,23 @@ struct ExtendedResponsibilities {
   Eigen::MatrixXd transitions;  // M × M: Σ_k P(mode_{k−1} = i, mode_k = j | ...) (chain only)
 };
 
-// E-step on residuals e_k (y_k − d − H_k θ) with each range's temperature bin. Returns the
-// log-likelihood log p(e_1..e_K). Computed in log space with per-range scaling: no underflow,
-// no NaN. Throws InvalidInput on mismatched lengths or a bin out of range.
+// E-step on residuals e_k (y_k − d − H_k θ − the bias terms) with each range's noise state and,
+// when a mode's offset moves, each range's shift of each mode's offset (K × M; empty: none).
+// Returns the log-likelihood log p(e_1..e_K). Computed in log space with per-range scaling: no
+// underflow, no NaN. Throws InvalidInput on mismatched lengths or a state out of range.
 double extended_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
-                       const Eigen::Ref<const Eigen::VectorXi>& bin, const ExtendedMixture& model,
-                       ExtendedResponsibilities& out);
+                       const Eigen::Ref<const Eigen::VectorXi>& state,
+                       const Eigen::Ref<const Eigen::MatrixXd>& mode_shift,
+                       const ExtendedMixture& model, ExtendedResponsibilities& out);
+
+// log p(e_k) of each range under the extended mixture with independent draws, or under a chain
+// the one-step predictive log p(e_k | e_1..e_{k−1}) (their sum is the log-likelihood). With
+// resolution h > 0 each Gaussian's density is replaced by the probability of the rounded value
+// (core::rounded_mixture_log_probabilities) and the outlier density by u·h: the held-out score.
+Eigen::VectorXd extended_log_scores(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                    const Eigen::Ref<const Eigen::VectorXi>& state,
+                                    const Eigen::Ref<const Eigen::MatrixXd>& mode_shift,
+                                    const ExtendedMixture& model, double resolution);
 
 // The number of free parameters the extensions add to the paper's mixture (for BIC).
 int extension_parameters(const ExtendedMixture& model);

@@ -122,6 +122,17 @@ Eigen::VectorXd rounded_mixture_log_probabilities(const Eigen::Ref<const Eigen::
   return out;
 }
 
+double rounded_normal_log_probability(double residual, double mean, double variance,
+                                      double resolution) {
+  const double half = 0.5 * resolution;
+  const double sigma = std::sqrt(variance);
+  const double probability =
+      standard_normal_interval((residual - half - mean) / sigma, (residual + half - mean) / sigma);
+  if (probability > std::numeric_limits<double>::min()) return std::log(probability);
+  const double z = (residual - mean) / sigma;
+  return std::log(resolution / sigma) - 0.5 * std::log(2.0 * std::numbers::pi) - 0.5 * z * z;
+}
+
 double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,
                               const MixtureParameters& mixture) {
   Eigen::MatrixXd scratch;

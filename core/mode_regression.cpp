@@ -1,5 +1,9 @@
 #include "core/mode_regression.hpp"
 
+#include <Eigen/Cholesky>
+#include <string>
+
+#include "core/error.hpp"
 #include "core/weighted_least_squares.hpp"
 
 namespace tofcomp::core {
@@ -36,6 +40,87 @@ BiasAndOffsets solve_bias_and_offsets(const Eigen::Ref<const Eigen::MatrixXd>& h
   out.mean =
       ((mode_target - mode_sums.transpose() * out.theta).array() / mode_mass.array()).matrix();
   out.mean.array() -= centred_bias;
+  return out;
+}
+
+MeanStructure solve_mean_structure(const Eigen::Ref<const Eigen::MatrixXd>& x,
+                                   const std::vector<Eigen::MatrixXd>& mode_columns,
+                                   const Eigen::Ref<const Eigen::VectorXd>& y,
+                                   const Eigen::Ref<const Eigen::MatrixXd>& w,
+                                   Eigen::MatrixXd& scratch) {
+  const Eigen::Index k = y.size();
+  const Eigen::Index p = x.cols();
+  const auto modes = static_cast<std::size_t>(w.cols());
+  if (mode_columns.size() != modes) {
+    throw InvalidInput("the mean structure needs one (maybe empty) column block per mode");
+  }
+  bool any_columns = false;
+  for (const auto& z : mode_columns) {
+    if (z.size() > 0 && z.rows() != k) throw InvalidInput("a mode's columns need one row per range");
+    any_columns = any_columns || z.size() > 0;
+  }
+  MeanStructure out;
+  if (!any_columns) {
+    BiasAndOffsets plain = solve_bias_and_offsets(x, y, w, scratch);
+    out.theta = std::move(plain.theta);
+    out.mean = std::move(plain.mean);
+    out.mode_coefficients.assign(modes, Eigen::VectorXd(0));
+    return out;
+  }
+  const Eigen::VectorXd total_weight = w.rowwise().sum();
+  const Eigen::RowVectorXd column_mean =
+      p > 0 ? Eigen::RowVectorXd((total_weight.transpose() * x) / total_weight.sum())
+            : Eigen::RowVectorXd(0);
+  const Eigen::ArrayXd sqrt_weight = total_weight.array().sqrt();
+  scratch = sqrt_weight.matrix().asDiagonal() * (x.rowwise() - column_mean);
+  Eigen::MatrixXd g = gram(scratch);
+  Eigen::VectorXd b = scratch.transpose() * (sqrt_weight * y.array()).matrix();
+  const Eigen::MatrixXd centred = x.rowwise() - column_mean;
+
+  // Mode i's own design [1, Z_i] and the blocks of its normal equations.
+  struct ModeBlock {
+    Eigen::MatrixXd a;  // [1 Z]ᵀ W_i [1 Z]
+    Eigen::MatrixXd c;  // [1 Z]ᵀ W_i X̃
+    Eigen::VectorXd t;  // [1 Z]ᵀ W_i y
+  };
+  std::vector<ModeBlock> blocks(modes);
+  for (std::size_t i = 0; i < modes; ++i) {
+    const Eigen::Index q = mode_columns[i].cols();
+    Eigen::MatrixXd own(k, 1 + q);
+    own.col(0).setOnes();
+    if (q > 0) own.rightCols(q) = mode_columns[i];
+    const Eigen::MatrixXd weighted = own.array().colwise() * w.col(static_cast<Eigen::Index>(i)).array();
+    ModeBlock& blk = blocks[i];
+    blk.a = weighted.transpose() * own;
+    blk.c = weighted.transpose() * centred;
+    blk.t = weighted.transpose() * y;
+    if (p > 0) {
+      const Eigen::LDLT<Eigen::MatrixXd> factor(blk.a);
+      if (factor.info() != Eigen::Success || !(factor.rcond() >= kSingularReciprocalCondition)) {
+        throw NumericalError("the M-step: mode " + std::to_string(i + 1) +
+                             "'s offset and covariate columns are singular (a covariate constant "
+                             "where the mode has ranges)");
+      }
+      const Eigen::MatrixXd a_inverse_c = factor.solve(blk.c);
+      const Eigen::VectorXd a_inverse_t = factor.solve(blk.t);
+      g.noalias() -= blk.c.transpose() * a_inverse_c;
+      b.noalias() -= blk.c.transpose() * a_inverse_t;
+    }
+  }
+  out.theta = p > 0 ? solve_normal_equations(
+                          g, b, "the weighted normal matrix of the M-step's bias and offsets")
+                    : Eigen::VectorXd(0);
+  const double centred_bias = p > 0 ? column_mean.dot(out.theta) : 0.0;
+  out.mean.resize(static_cast<Eigen::Index>(modes));
+  out.mode_coefficients.resize(modes);
+  for (std::size_t i = 0; i < modes; ++i) {
+    const ModeBlock& blk = blocks[i];
+    const Eigen::VectorXd rhs = p > 0 ? Eigen::VectorXd(blk.t - blk.c * out.theta) : blk.t;
+    const Eigen::VectorXd phi =
+        solve_normal_equations(blk.a, rhs, "a mode's offset and its covariate columns");
+    out.mean[static_cast<Eigen::Index>(i)] = phi[0] - centred_bias;
+    out.mode_coefficients[i] = phi.tail(phi.size() - 1);
+  }
   return out;
 }
 

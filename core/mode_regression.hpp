@@ -9,6 +9,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace tofcomp::core {
 
@@ -23,5 +24,25 @@ BiasAndOffsets solve_bias_and_offsets(const Eigen::Ref<const Eigen::MatrixXd>& h
                                       const Eigen::Ref<const Eigen::VectorXd>& y,
                                       const Eigen::Ref<const Eigen::MatrixXd>& weights,
                                       Eigen::MatrixXd& scratch);
+
+// The same block when some modes' offsets move with covariates (the grammar's mode-offset terms,
+// core/effect_grammar.hpp): minimizes
+//   Σ_k Σ_i w_ki (ỹ_k − X_k θ − μ_i − Z_ki β_i)²
+// over θ, every μ_i and every β_i at once, Z_i the K × q_i columns of mode i (q_i may be 0). Each
+// mode's block (μ_i, β_i) is profiled out of the normal equations through its small
+// (1 + q_i)² system, leaving the p × p system for θ, with X centred as above.
+struct MeanStructure {
+  Eigen::VectorXd theta;                        // θ (p)
+  Eigen::VectorXd mean;                         // μ_i (M)
+  std::vector<Eigen::VectorXd> mode_coefficients;  // β_i (q_i each)
+};
+
+// x: K × p (p may be 0), mode_columns: M matrices of K rows (or 0 × 0 for none), y: K,
+// weights: K × M. Throws NumericalError when a system is singular.
+MeanStructure solve_mean_structure(const Eigen::Ref<const Eigen::MatrixXd>& x,
+                                   const std::vector<Eigen::MatrixXd>& mode_columns,
+                                   const Eigen::Ref<const Eigen::VectorXd>& y,
+                                   const Eigen::Ref<const Eigen::MatrixXd>& weights,
+                                   Eigen::MatrixXd& scratch);
 
 }  // namespace tofcomp::core

@@ -1,62 +1,71 @@
-// Eq. 8 extended by what the residual diagnosis found (core/residual_diagnosis.hpp):
-//   y_k = d + H(t^j_k) θ + γ c_k + w_k,   w_k from the extended mixture
-//   (core/extended_mixture.hpp),
-// where c_k is a covariate the bias lacks: the time since the start of the data (time drift),
-// the junction's heating rate (heating hysteresis) or the warm-up transient exp(−t_on/τ) after
-// a power-on (core/warm_up.hpp). The covariate is one more column of the
-// design, so training and testing keep the closed forms of §5-§6. What a calibration file stores
-// next to the paper's model, and what the offline tools and the daemon apply.
+// Eq. 8 extended by the terms of the grammar (core/effect_grammar.hpp) that the model search
+// kept (calibration/model_search.hpp):
+//   y_k = d + H(t^j_k) θ + Σ_t γ_t f_t(c_k) + w_k,
+// the sum over the bias terms, and w_k drawn from the extended mixture
+// (core/extended_mixture.hpp): a mode-offset term moves its mode by β f(c_k), spread and weight
+// terms bin their parameter by a covariate, and the structure may be a Markov chain over the
+// modes, one more mode or an outlier component. Every term is linear in its coefficients or
+// closed-form in its bins, so training and testing keep the closed forms of §5-§6
+// (core/extended_em.hpp). What a calibration file stores next to the paper's model, and what the
+// offline tools and the daemon apply.
 #pragma once
 
 #include <Eigen/Core>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "core/covariate_table.hpp"
+#include "core/effect_grammar.hpp"
 #include "core/extended_mixture.hpp"
-#include "core/residual_diagnosis.hpp"
 
 namespace tofcomp::core {
 
-enum class Covariate {
-  None,
-  TimeHours,              // hours since the start of the data (the daemon: since its start)
-  HeatingRateCPerMinute,  // dt^j/dt in °C/min, from the junction estimate
-  WarmUp                  // exp(−t_on/τ), t_on the seconds since the last power-on
+// A fitted bias or mode-offset term: its coefficients, one per design column.
+struct MeanTermFit {
+  Term term;
+  Eigen::VectorXd coefficients;
 };
 
-// What the covariates are computed from, at each range.
-struct CovariateInputs {
-  Eigen::Ref<const Eigen::VectorXd> time_s;
-  Eigen::Ref<const Eigen::VectorXd> junction_c;
-  Eigen::Ref<const Eigen::VectorXd> time_since_power_on_s;
+// The covariates at one instant, as the daemon has them scan by scan; the junction's lag for each
+// time constant the calibration's terms use (ModelExtension::lag_time_constants()).
+struct CovariatesAt {
+  double junction_c = 0.0;
+  double heating_rate_c_per_min = 0.0;
+  double time_since_power_on_s = 0.0;
+  double time_h = 0.0;
+  double ambient_c = 0.0;
+  std::vector<std::pair<double, double>> junction_lag_c;  // (τ, L_τ(t^j) − t^j)
 };
-
-const char* covariate_name(Covariate covariate);
 
 struct ModelExtension {
-  EffectKind effect = EffectKind::SerialDependence;  // the effect it models
-  Covariate covariate = Covariate::None;
-  double covariate_mm = 0.0;         // γ: mm per unit of the covariate
-  double time_constant_s = 0.0;      // τ of the warm-up covariate (0 for the others)
+  std::vector<EffectLabel> effects;  // what the search added, in that order
+  std::vector<MeanTermFit> mean_terms;
   ExtendedMixture extended_mixture;  // replaces the paper's mixture (model.mixture)
 
-  // Throws InvalidInput when the extended mixture is invalid, a covariate has a non-finite γ or the
-  // warm-up a time constant that is not positive.
+  // Throws InvalidInput when a term or the mixture is invalid, a mode-offset term names a mode
+  // the mixture lacks, or a coefficient is not finite.
   void validate() const;
-  // c_k for each range (zeros without a covariate).
-  Eigen::VectorXd covariate_values(const CovariateInputs& in) const;
-  // γ c_k for each range.
-  Eigen::VectorXd covariate_bias(const CovariateInputs& in) const;
-  // γ c at one instant (the daemon's scan): time_s for time drift, the junction's heating rate in
-  // °C/min, the seconds since the last power-on.
-  double covariate_bias_at(double time_s, double heating_rate_c_per_min,
-                           double time_since_power_on_s) const;
+  bool has_mode_shift() const;
+  // At every range of a covariate table: Σ_t γ_t f_t(c_k) over the bias terms; each mode's offset
+  // shift (K × M, empty without mode-offset terms); the noise state of the extended mixture.
+  Eigen::VectorXd bias(const CovariateTable& covariates) const;
+  Eigen::MatrixXd mode_shift(const CovariateTable& covariates) const;
+  Eigen::VectorXi states(const CovariateTable& covariates) const;
+  // The same at one instant.
+  double bias_at(const CovariatesAt& at) const;
+  Eigen::VectorXd mode_shift_at(const CovariatesAt& at) const;  // M entries (zeros without)
+  int state_at(const CovariatesAt& at) const;
+  // The time constants of the junction lags the terms read.
+  std::vector<double> lag_time_constants() const;
+  // The effects' names for people, in the order added: "warm-up after power-on, outliers".
+  std::string name() const;
 };
 
-// The covariate at each range: hours since time_s's origin (time_s / 3600), the junction's rate
-// of change in °C/min by local least-squares slopes over ±30 s, or exp(−t_on/τ).
-Eigen::VectorXd covariate_values(Covariate covariate, const CovariateInputs& in,
-                                 double time_constant_s = 0.0);
+// The covariate of a term at one instant. Throws InvalidInput for a lag whose τ `at` lacks.
+double covariate_at(const CovariatesAt& at, Covariate covariate, double time_constant_s);
 
-inline constexpr double kHeatingRateHalfWindowS = 30.0;
+// The noise state of each range under an extended mixture's bins.
+Eigen::VectorXi noise_states(const ExtendedMixture& mixture, const CovariateTable& covariates);
 
 }  // namespace tofcomp::core

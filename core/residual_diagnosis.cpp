@@ -123,32 +123,6 @@ const char* effect_name(EffectKind kind) {
   return "unknown";
 }
 
-Eigen::VectorXd local_rate(const Eigen::Ref<const Eigen::VectorXd>& time_s,
-                           const Eigen::Ref<const Eigen::VectorXd>& value, double half_window_s) {
-  require_same_length(time_s.size(), "time", value.size(), "value");
-  require_positive(half_window_s, "rate half window");
-  const Eigen::Index n = time_s.size();
-  Eigen::VectorXd rate = Eigen::VectorXd::Zero(n);
-  // Running sums over a window [lo, hi) that slides with k: O(K) overall.
-  Eigen::Index lo = 0, hi = 0;
-  double st = 0, sv = 0, stt = 0, stv = 0, count = 0;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    while (hi < n && time_s[hi] <= time_s[k] + half_window_s) {
-      const double t = time_s[hi] - time_s[0];
-      st += t, sv += value[hi], stt += t * t, stv += t * value[hi], count += 1;
-      ++hi;
-    }
-    while (time_s[lo] < time_s[k] - half_window_s) {
-      const double t = time_s[lo] - time_s[0];
-      st -= t, sv -= value[lo], stt -= t * t, stv -= t * value[lo], count -= 1;
-      ++lo;
-    }
-    const double denominator = count * stt - st * st;
-    rate[k] = denominator > 1e-9 * count * count ? (count * stv - st * sv) / denominator : 0.0;
-  }
-  return rate;
-}
-
 Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& mixture,
                              const DiagnosisOptions& options) {
   const Eigen::Index n = in.residual.size();

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "core/covariate_table.hpp"
 #include "core/gaussian_mixture.hpp"
 #include "core/statistical_tests.hpp"
 
@@ -78,10 +79,5 @@ struct Diagnosis {
 // Throws InvalidInput on mismatched lengths, non-finite values or fewer than 100 ranges.
 Diagnosis diagnose_residuals(const DiagnosisInput& input, const MixtureParameters& mixture,
                              const DiagnosisOptions& options = {});
-
-// The time derivative of a sampled signal by least-squares slopes over ±half_window_s around
-// each sample (the junction's heating rate from its smoothed estimate). O(K).
-Eigen::VectorXd local_rate(const Eigen::Ref<const Eigen::VectorXd>& time_s,
-                           const Eigen::Ref<const Eigen::VectorXd>& value, double half_window_s);
 
 }  // namespace tofcomp::core

@@ -23,10 +23,13 @@ SlidingWindowEstimator::SlidingWindowEstimator(MixtureParameters mixture,
     : SlidingWindowEstimator(without_extensions(mixture), options) {}
 
 SlidingWindowEstimator::SlidingWindowEstimator(ExtendedMixture extended_mixture,
-                                               SlidingWindowOptions options)
-    : extended_mixture_(std::move(extended_mixture)), options_(options), detector_(options.change) {
+                                               SlidingWindowOptions options, bool mode_shifts)
+    : extended_mixture_(std::move(extended_mixture)),
+      shifted_(mode_shifts),
+      options_(options),
+      detector_(options.change) {
   extended_mixture_.validate();
-  extended_ = extended_mixture_.has_extension();
+  extended_ = extended_mixture_.has_extension() || shifted_;
   chain_ = extended_mixture_.transition.size() > 0;
   if (options_.window < 1 || options_.min_samples < 1 || options_.min_samples > options_.window) {
     std::ostringstream msg;
@@ -50,7 +53,7 @@ SlidingWindowEstimator::SlidingWindowEstimator(ExtendedMixture extended_mixture,
       extended_mixture_.outlier_weight > 0.0
           ? std::log(extended_mixture_.outlier_weight * extended_mixture_.outlier_density)
           : -INFINITY;
-  for (int b = 0; b < extended_mixture_.bins(); ++b) {
+  for (int b = 0; b < extended_mixture_.states(); ++b) {
     // Without an extension these are the mixture's own vectors: the same arithmetic as ever.
     Eigen::VectorXd weight = extended_mixture_.modes.weight;
     Eigen::VectorXd variance = extended_mixture_.modes.variance;
@@ -66,6 +69,10 @@ SlidingWindowEstimator::SlidingWindowEstimator(ExtendedMixture extended_mixture,
         (log_inlier - 0.5 * (2.0 * std::numbers::pi * variance.array()).log()).matrix());
   }
   if (chain_) slot_prior_.resize(options_.window, m);
+  if (shifted_) {
+    ring_shift_ = Eigen::MatrixXd::Zero(options_.window, m);
+    ordered_shift_.resize(options_.window, m);
+  }
   if (extended_mixture_.outlier_weight > 0.0) {
     // The run of outliers whose chance under the model, ε^n, is below 1e-7.
     outlier_run_ = static_cast<int>(std::clamp(
@@ -89,29 +96,30 @@ void SlidingWindowEstimator::reset() {
 
 // The residual e = y − Hθ̂ − d̂ standardized within its most probable mode (the change
 // detector's z, core/change_detector.hpp), from the cached log-priors and precisions of its bin.
-double SlidingWindowEstimator::standardized(double residual, int bin) const {
+double SlidingWindowEstimator::standardized(double residual, int bin,
+                                            const Eigen::VectorXd& mean) const {
   const auto b = static_cast<std::size_t>(bin);
-  const MixtureParameters& modes = extended_mixture_.modes;
   Eigen::Index best = 0;
   double best_log = -INFINITY;
-  for (Eigen::Index i = 0; i < modes.modes(); ++i) {
-    const double r = residual - modes.mean[i];
+  for (Eigen::Index i = 0; i < mean.size(); ++i) {
+    const double r = residual - mean[i];
     const double log_density = log_prior_[b][i] - 0.5 * r * r * precision_[b][i];
     if (log_density > best_log) {
       best_log = log_density;
       best = i;
     }
   }
-  return (residual - modes.mean[best]) * inverse_std_[b][best];
+  return (residual - mean[best]) * inverse_std_[b][best];
 }
 
 // P(outlier | e) = ε u / (ε u + (1 − ε) Σ_i π_{b,i} N(e; μ_i, σ²_{b,i})).
-double SlidingWindowEstimator::outlier_probability(double residual, int bin) const {
+double SlidingWindowEstimator::outlier_probability(double residual, int bin,
+                                                   const Eigen::VectorXd& mean) const {
   const auto b = static_cast<std::size_t>(bin);
   double largest = log_outlier_;
   double inlier = -INFINITY;
-  for (Eigen::Index i = 0; i < extended_mixture_.modes.modes(); ++i) {
-    const double r = residual - extended_mixture_.modes.mean[i];
+  for (Eigen::Index i = 0; i < mean.size(); ++i) {
+    const double r = residual - mean[i];
     const double log_joint =
         log_weight_[b][i] + log_density_shift_[b][i] - 0.5 * r * r * precision_[b][i];
     inlier = std::max(inlier, log_joint);
@@ -119,8 +127,8 @@ double SlidingWindowEstimator::outlier_probability(double residual, int bin) con
   largest = std::max(largest, inlier);
   double total = std::exp(log_outlier_ - largest);
   const double outlier = total;
-  for (Eigen::Index i = 0; i < extended_mixture_.modes.modes(); ++i) {
-    const double r = residual - extended_mixture_.modes.mean[i];
+  for (Eigen::Index i = 0; i < mean.size(); ++i) {
+    const double r = residual - mean[i];
     total += std::exp(log_weight_[b][i] + log_density_shift_[b][i] -
                       0.5 * r * r * precision_[b][i] - largest);
   }
@@ -130,33 +138,51 @@ double SlidingWindowEstimator::outlier_probability(double residual, int bin) con
 // Whether the change detector sees a change at this range. Under the outlier component a range
 // the component takes (P(outlier) > 0.5 at the current d̂) does not enter the CUSUM; a run of
 // outlier_run_ of them is a change (a new scene is, at first, a run of "outliers").
-bool SlidingWindowEstimator::detect_change(double corrected_range, int bin) {
+bool SlidingWindowEstimator::detect_change(double corrected_range, int bin,
+                                           const Eigen::VectorXd& mean) {
   const double residual = corrected_range - distance_;
-  if (outlier_run_ > 0 && outlier_probability(residual, bin) > 0.5) {
+  if (outlier_run_ > 0 && outlier_probability(residual, bin, mean) > 0.5) {
     if (++outliers_in_a_row_ < outlier_run_) return false;
     detector_.reset();
     return true;
   }
   outliers_in_a_row_ = 0;
-  return detector_.update_standardized(standardized(residual, bin));
+  return detector_.update_standardized(standardized(residual, bin, mean));
 }
 
 void SlidingWindowEstimator::push(double corrected_range, int bin) {
   ring_[next_] = corrected_range;
   ring_bin_[next_] = bin;
+  if (shifted_) ring_shift_.row(next_) = new_shift_.transpose();
   next_ = (next_ + 1) % options_.window;
   count_ = std::min(count_ + 1, options_.window);
 }
 
-WindowEstimate SlidingWindowEstimator::add(double corrected_range, int bin) {
+WindowEstimate SlidingWindowEstimator::add(double corrected_range, int bin,
+                                           const Eigen::Ref<const Eigen::VectorXd>& mode_shift) {
   require_finite(corrected_range, "bias-corrected range");
-  if (bin < 0 || bin >= extended_mixture_.bins()) {
-    throw InvalidInput("sliding window: temperature bin " + std::to_string(bin) +
-                       " outside the mixture's " + std::to_string(extended_mixture_.bins()) +
-                       " bins");
+  if (bin < 0 || bin >= extended_mixture_.states()) {
+    throw InvalidInput("sliding window: noise state " + std::to_string(bin) +
+                       " outside the mixture's " + std::to_string(extended_mixture_.states()) +
+                       " states");
+  }
+  const Eigen::Index m = extended_mixture_.modes.modes();
+  if (shifted_) {
+    if (mode_shift.size() != m) {
+      throw InvalidInput("sliding window: a range needs one offset shift per mode (" +
+                         std::to_string(m) + ")");
+    }
+    require_finite(mode_shift, "mode offset shift");
+    new_shift_ = mode_shift;
+  } else if (mode_shift.size() > 0 && !mode_shift.isZero()) {
+    throw InvalidInput("sliding window: mode offset shifts given to a window made without them");
   }
   WindowEstimate out;
-  if (has_distance_ && count_ >= options_.min_samples && detect_change(corrected_range, bin)) {
+  const Eigen::VectorXd mean =
+      shifted_ ? Eigen::VectorXd(extended_mixture_.modes.mean + new_shift_)
+               : extended_mixture_.modes.mean;
+  if (has_distance_ && count_ >= options_.min_samples &&
+      detect_change(corrected_range, bin, mean)) {
     reset();
     out.change_detected = true;
   }
@@ -179,12 +205,16 @@ void SlidingWindowEstimator::fit_exact(WindowEstimate& out) {
   for (Eigen::Index i = 0; i < count_; ++i) {
     ordered_[i] = ring_[(first + i) % options_.window];
     ordered_bin_[i] = ring_bin_[(first + i) % options_.window];
+    if (shifted_) ordered_shift_.row(i) = ring_shift_.row((first + i) % options_.window);
   }
   const std::optional<double> warm =
       has_distance_ ? std::optional<double>(distance_) : std::nullopt;
   const EmTestResult fit =
       extended_ ? test_extended_em(ordered_.head(count_), zeros_.head(count_),
-                                   ordered_bin_.head(count_), extended_mixture_, options_.em, warm)
+                                   ordered_bin_.head(count_),
+                                   shifted_ ? Eigen::MatrixXd(ordered_shift_.topRows(count_))
+                                            : Eigen::MatrixXd(0, 0),
+                                   extended_mixture_, options_.em, warm)
                 : test_em(ordered_.head(count_), zeros_.head(count_), extended_mixture_.modes,
                           options_.em, warm);
   distance_ = fit.distance;
@@ -238,7 +268,10 @@ SlidingWindowEstimator::Terms SlidingWindowEstimator::extended_terms_at(double c
                                                                         std::size_t slot) {
   const Eigen::Index m = extended_mixture_.modes.modes();
   const auto b = static_cast<std::size_t>(ring_bin_[static_cast<Eigen::Index>(slot)]);
-  const Eigen::VectorXd& mean = extended_mixture_.modes.mean;
+  const Eigen::VectorXd mean =
+      shifted_ ? Eigen::VectorXd(extended_mixture_.modes.mean +
+                                 ring_shift_.row(static_cast<Eigen::Index>(slot)).transpose())
+               : extended_mixture_.modes.mean;
   const Eigen::VectorXd& precision = precision_[b];
   double largest = log_outlier_;
   for (Eigen::Index i = 0; i < m; ++i) {

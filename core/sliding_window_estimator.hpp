@@ -72,12 +72,17 @@ class SlidingWindowEstimator {
   // The paper's mixture: the same as without_extensions(mixture).
   SlidingWindowEstimator(MixtureParameters mixture, SlidingWindowOptions options = {});
   // The extended mixture. Throws InvalidInput when it is invalid.
-  SlidingWindowEstimator(ExtendedMixture extended_mixture, SlidingWindowOptions options = {});
+  // With mode_shifts, every range comes with its shift of each mode's offset (a calibration's
+  // mode-offset terms, core/model_extension.hpp).
+  SlidingWindowEstimator(ExtendedMixture extended_mixture, SlidingWindowOptions options = {},
+                         bool mode_shifts = false);
 
-  // Adds one bias-corrected range y − H θ̂ (finite) of temperature bin `bin` (0..B−1 of the
-  // extended mixture; 0 without bins) and returns the window's estimate. Throws InvalidInput on a
-  // non-finite range or a bin out of range.
-  WindowEstimate add(double corrected_range, int bin = 0);
+  // Adds one bias-corrected range y − H θ̂ (finite) of noise state `bin` (0..S−1 of the
+  // extended mixture; 0 without bins) and, for a window made with mode shifts, its shift of each
+  // mode's offset; returns the window's estimate. Throws InvalidInput on a non-finite range, a
+  // state out of range or shifts that do not fit the window.
+  WindowEstimate add(double corrected_range, int bin = 0,
+                     const Eigen::Ref<const Eigen::VectorXd>& mode_shift = Eigen::VectorXd());
   void reset();
   const SlidingWindowOptions& options() const { return options_; }
   const MixtureParameters& mixture() const { return extended_mixture_.modes; }
@@ -99,13 +104,18 @@ class SlidingWindowEstimator {
   // chain, its stored prior); also fills outlier_.
   Terms extended_terms_at(double corrected_range, double distance, std::size_t slot);
   void resum();
-  double standardized(double residual, int bin) const;
-  double outlier_probability(double residual, int bin) const;
-  bool detect_change(double corrected_range, int bin);
+  // With each mode's offset (shifted, for a range with mode shifts).
+  double standardized(double residual, int bin, const Eigen::VectorXd& mean) const;
+  double outlier_probability(double residual, int bin, const Eigen::VectorXd& mean) const;
+  bool detect_change(double corrected_range, int bin, const Eigen::VectorXd& mean);
 
   ExtendedMixture extended_mixture_;
   bool extended_ = false;  // extended_mixture_.has_extension()
   bool chain_ = false;     // a Markov chain over the modes
+  bool shifted_ = false;   // ranges come with mode offset shifts
+  Eigen::MatrixXd ring_shift_;     // W × M: each range's shifts (shifted_ only)
+  Eigen::MatrixXd ordered_shift_;  // scratch
+  Eigen::VectorXd new_shift_;      // the shifts of the range being added
   SlidingWindowOptions options_;
   ChangeDetector detector_;
   Eigen::VectorXd ring_;      // capacity W

@@ -41,7 +41,7 @@ void CompensationInputs::use_calibration(std::shared_ptr<const core::Calibration
   const core::Calibration* in_use = pipeline_.calibration();
   spdlog::info("calibration {} in use, from {}{}", calibration_id_, source,
                in_use && in_use->extension
-                   ? ", with the " + io::effect_token(in_use->extension->effect) + " extension"
+                   ? ", with the " + in_use->extension->name() + " extension"
                    : std::string());
 }
 

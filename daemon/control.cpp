@@ -21,7 +21,7 @@ nlohmann::json number_or_null(double value) {
 // The effect the calibration's model extension models (its extension.effect), or null.
 nlohmann::json extension_in_use(const core::Calibration* calibration) {
   if (!calibration || !calibration->extension) return nullptr;
-  return io::effect_token(calibration->extension->effect);
+  return calibration->extension->name();
 }
 
 }  // namespace

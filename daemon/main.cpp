@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
         pipeline.set_calibration(loaded, 1);
         calibration = "; calibration " + cfg.calibration.file.string() +
                       (loaded->extension
-                           ? " with the " + tofcomp::io::effect_token(loaded->extension->effect) +
+                           ? " with the " + loaded->extension->name() +
                                  " extension"
                            : std::string());
       }

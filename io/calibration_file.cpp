@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "io/extension_yaml.hpp"
 #include "io/training_choices_yaml.hpp"
 #include "io/yaml_fields.hpp"
 
@@ -79,154 +80,7 @@ core::Basis read_basis(const YamlMap& parent) {
   }
 }
 
-Eigen::VectorXd read_vector(const YamlMap& parent, std::string_view key) {
-  const YAML::Node list = parent.node(key);
-  if (!list.IsSequence()) parent.fail(key, "must be a list of numbers");
-  Eigen::VectorXd v(static_cast<Eigen::Index>(list.size()));
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    double x = 0.0;
-    if (!list[i].IsScalar() || !YAML::convert<double>::decode(list[i], x) || !std::isfinite(x)) {
-      parent.fail(std::string(key) + "[" + std::to_string(i) + "]", "must be a finite number");
-    }
-    v[static_cast<Eigen::Index>(i)] = x;
-  }
-  return v;
-}
-
-constexpr core::EffectKind kEffects[] = {core::EffectKind::ModePersistence,
-                                         core::EffectKind::TemperatureDependentWeights,
-                                         core::EffectKind::TemperatureDependentSpread,
-                                         core::EffectKind::Outliers,
-                                         core::EffectKind::HeatingHysteresis,
-                                         core::EffectKind::TimeDrift,
-                                         core::EffectKind::WarmUp,
-                                         core::EffectKind::ExtraMode};
-
-void emit_matrix(YAML::Emitter& out, const char* key, const Eigen::MatrixXd& m) {
-  if (m.size() == 0) return;
-  out << YAML::Key << key << YAML::Value << YAML::BeginSeq;
-  for (Eigen::Index r = 0; r < m.rows(); ++r) {
-    out << YAML::Flow << YAML::BeginSeq;
-    for (Eigen::Index c = 0; c < m.cols(); ++c) out << m(r, c);
-    out << YAML::EndSeq;
-  }
-  out << YAML::EndSeq;
-}
-
-// The extension's parts beyond the paper's model; its modes are the measurement's modes.
-void emit_extension(YAML::Emitter& out, const core::ModelExtension& e,
-                    const core::MixtureParameters& modes) {
-  e.validate();
-  if (e.extended_mixture.modes.mean != modes.mean ||
-      e.extended_mixture.modes.variance != modes.variance ||
-      e.extended_mixture.modes.weight != modes.weight) {
-    throw core::InvalidInput("the extension's modes differ from the measurement's modes");
-  }
-  out << YAML::Key << "extension" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "effect" << YAML::Value << effect_token(e.effect);
-  out << YAML::Key << "covariate" << YAML::Value << core::covariate_name(e.covariate);
-  out << YAML::Key << "covariate_mm" << YAML::Value << e.covariate_mm;
-  if (e.covariate == core::Covariate::WarmUp) {
-    out << YAML::Key << "time_constant_s" << YAML::Value << e.time_constant_s;
-  }
-  if (e.extended_mixture.bin_edges_c.size() > 0) {
-    out << YAML::Key << "bin_edges_c" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-    for (Eigen::Index b = 0; b < e.extended_mixture.bin_edges_c.size(); ++b)
-      out << e.extended_mixture.bin_edges_c[b];
-    out << YAML::EndSeq;
-  }
-  emit_matrix(out, "bin_weights", e.extended_mixture.bin_weight);
-  emit_matrix(out, "bin_variances_mm2", e.extended_mixture.bin_variance);
-  emit_matrix(out, "transition", e.extended_mixture.transition);
-  if (e.extended_mixture.outlier_weight > 0.0) {
-    out << YAML::Key << "outlier_weight" << YAML::Value << e.extended_mixture.outlier_weight;
-    out << YAML::Key << "outlier_span_mm" << YAML::Value
-        << 1.0 / e.extended_mixture.outlier_density;
-  }
-  out << YAML::EndMap;
-}
-
-Eigen::MatrixXd read_matrix(const YamlMap& parent, std::string_view key) {
-  if (!parent.has(key)) return {};
-  const YAML::Node rows = parent.node(key);
-  if (!rows.IsSequence() || rows.size() == 0) parent.fail(key, "must be a non-empty list of lists");
-  Eigen::MatrixXd m;
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const YAML::Node row = rows[r];
-    const std::string where = std::string(key) + "[" + std::to_string(r) + "]";
-    if (!row.IsSequence() || (r > 0 && static_cast<Eigen::Index>(row.size()) != m.cols())) {
-      parent.fail(where, "must be a list of numbers as long as the first row");
-    }
-    if (r == 0)
-      m.resize(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(row.size()));
-    for (std::size_t c = 0; c < row.size(); ++c) {
-      double x = 0.0;
-      if (!row[c].IsScalar() || !YAML::convert<double>::decode(row[c], x) || !std::isfinite(x)) {
-        parent.fail(where + "[" + std::to_string(c) + "]", "must be a finite number");
-      }
-      m(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = x;
-    }
-  }
-  return m;
-}
-
-core::ModelExtension read_extension(const YamlMap& top, const core::MixtureParameters& modes) {
-  const YamlMap x(
-      top.node("extension"), "extension",
-      {"effect", "covariate", "covariate_mm", "time_constant_s", "bin_edges_c", "bin_weights",
-       "bin_variances_mm2", "transition", "outlier_weight", "outlier_span_mm"});
-  core::ModelExtension e;
-  const std::string effect = x.text("effect");
-  bool known = false;
-  for (const core::EffectKind kind : kEffects) {
-    if (effect == effect_token(kind)) e.effect = kind, known = true;
-  }
-  if (!known) x.fail("effect", "'" + effect + "' is not an effect with an extension");
-  const std::string covariate = x.text_or("covariate", "none");
-  bool covariate_known = false;
-  for (const core::Covariate c :
-       {core::Covariate::None, core::Covariate::TimeHours, core::Covariate::HeatingRateCPerMinute,
-        core::Covariate::WarmUp}) {
-    if (covariate == core::covariate_name(c)) e.covariate = c, covariate_known = true;
-  }
-  if (!covariate_known) {
-    x.fail("covariate", "must be none, time_h, heating_rate_c_per_min or warm_up");
-  }
-  e.covariate_mm = x.number_or("covariate_mm", 0.0);
-  if (e.covariate == core::Covariate::WarmUp) {
-    e.time_constant_s = x.number("time_constant_s");
-    if (!(e.time_constant_s > 0.0)) x.fail("time_constant_s", "must be positive");
-  } else if (x.has("time_constant_s")) {
-    x.fail("time_constant_s", "belongs to the warm_up covariate only");
-  }
-  e.extended_mixture.modes = modes;
-  if (x.has("bin_edges_c")) e.extended_mixture.bin_edges_c = read_vector(x, "bin_edges_c");
-  e.extended_mixture.bin_weight = read_matrix(x, "bin_weights");
-  e.extended_mixture.bin_variance = read_matrix(x, "bin_variances_mm2");
-  e.extended_mixture.transition = read_matrix(x, "transition");
-  if (x.has("outlier_weight")) {
-    e.extended_mixture.outlier_weight = x.number("outlier_weight");
-    const double span = x.number("outlier_span_mm");
-    if (!(span > 0.0)) x.fail("outlier_span_mm", "must be positive");
-    e.extended_mixture.outlier_density = 1.0 / span;
-  }
-  try {
-    e.validate();
-  } catch (const core::InvalidInput& error) {
-    throw YamlSchemaError(std::string("extension: ") + error.what());
-  }
-  return e;
-}
-
 }  // namespace
-
-std::string effect_token(core::EffectKind kind) {
-  std::string token = core::effect_name(kind);
-  for (char& ch : token) {
-    if (ch == ' ' || ch == '-') ch = '_';
-  }
-  return token;
-}
 
 std::string calibration_to_yaml(const core::Calibration& c) {
   c.model.validate();
@@ -300,9 +154,10 @@ core::Calibration read_calibration_file(const std::string& file) {
                std::string("must be ") + kCalibrationSchema + ", not '" + top.text("schema") + "'");
     }
     const long version = top.integer("version");
-    if (version != kCalibrationVersion) {
-      top.fail("version", "is " + std::to_string(version) + "; this tofcomp reads version " +
-                              std::to_string(kCalibrationVersion) + " only");
+    if (version < kOldestCalibrationVersion || version > kCalibrationVersion) {
+      top.fail("version", "is " + std::to_string(version) + "; this tofcomp reads versions " +
+                              std::to_string(kOldestCalibrationVersion) + " to " +
+                              std::to_string(kCalibrationVersion));
     }
     core::Calibration c;
     const YamlMap p(top.node("provenance"), "provenance",
@@ -361,7 +216,7 @@ core::Calibration read_calibration_file(const std::string& file) {
     } catch (const core::InvalidInput& e) {
       throw YamlSchemaError(std::string("measurement: ") + e.what());
     }
-    if (top.has("extension")) c.extension = read_extension(top, c.model.mixture);
+    if (top.has("extension")) c.extension = read_extension(top, c.model.mixture, version);
     c.choices = read_training_choices(top);
     return c;
   } catch (const YamlSchemaError& e) {

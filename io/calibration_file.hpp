@@ -12,11 +12,10 @@
 namespace tofcomp::io {
 
 inline constexpr const char* kCalibrationSchema = "tofcomp-calibration";
-inline constexpr int kCalibrationVersion = 1;
-
-// The token of an effect in the file's extension.effect (and the daemon's status): its name
-// with '_' for spaces and hyphens, e.g. outliers, time_drift, mode_persistence.
-std::string effect_token(core::EffectKind kind);
+// Version 2 writes the extension as the grammar's terms (io/extension_yaml.hpp); version 1 files,
+// whose extension held one effect, still load.
+inline constexpr int kCalibrationVersion = 2;
+inline constexpr int kOldestCalibrationVersion = 1;
 
 // Writes atomically (temporary file, fsync, rename, fsync of the directory): a crash at any
 // moment leaves the old file or the new one.

@@ -11,19 +11,31 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-int junction_bin(const core::ExtendedMixture& mixture, double junction_c) {
-  int b = 0;
-  while (b < mixture.bin_edges_c.size() && junction_c >= mixture.bin_edges_c[b]) ++b;
-  return b;
-}
-
 }  // namespace
 
-double covariate_bias(const core::Calibration& calibration, double time_s,
-                      const JunctionEstimate& junction) {
-  if (!calibration.extension) return 0.0;
-  return calibration.extension->covariate_bias_at(time_s, junction.heating_rate_c_per_min,
-                                                  junction.time_since_power_on_s);
+core::CovariatesAt covariates_at_scan(const core::Calibration& calibration, double time_s,
+                                      const JunctionEstimate& junction,
+                                      const std::vector<JunctionLag>& lags) {
+  core::CovariatesAt at;
+  at.junction_c = junction.junction_c;
+  at.heating_rate_c_per_min = junction.heating_rate_c_per_min;
+  at.time_since_power_on_s = junction.time_since_power_on_s;
+  at.time_h = time_s / 3600.0;
+  at.ambient_c = calibration.ambient_c;
+  for (const JunctionLag& lag : lags) {
+    at.junction_lag_c.emplace_back(lag.time_constant_s, lag.node_c - junction.junction_c);
+  }
+  return at;
+}
+
+void JunctionLag::update(double time_s, double junction_c) {
+  if (!started) {
+    node_c = junction_c;
+    started = true;
+  } else if (time_s > last_time_s) {
+    node_c = junction_c + std::exp(-(time_s - last_time_s) / time_constant_s) * (node_c - junction_c);
+  }
+  last_time_s = std::max(last_time_s, time_s);
 }
 
 ScanCompensator::ScanCompensator(core::SlidingWindowOptions window) : window_options_(window) {}
@@ -37,8 +49,12 @@ void ScanCompensator::set_calibration(std::shared_ptr<const core::Calibration> c
         "calibration has " + std::to_string(calibration->model.mixture.modes()) +
         " lasing modes; the published record carries at most " + std::to_string(ipc::kMaxModes));
   }
+  lags_.clear();
   if (calibration->extension) {
     calibration->extension->validate();
+    for (const double tau : calibration->extension->lag_time_constants()) {
+      lags_.push_back(JunctionLag{tau});
+    }
     if (calibration->extension->extended_mixture.modes.modes() > ipc::kMaxModes) {
       throw core::InvalidInput(
           "calibration extension has " +
@@ -47,9 +63,11 @@ void ScanCompensator::set_calibration(std::shared_ptr<const core::Calibration> c
     }
   }
   core::ExtendedMixture mixture = core::compensation_mixture(*calibration);
+  const bool mode_shifts = calibration->extension && calibration->extension->has_mode_shift();
   // Checks the window options against this mixture before anything changes.
-  core::SlidingWindowEstimator check(mixture, window_options_);
+  core::SlidingWindowEstimator check(mixture, window_options_, mode_shifts);
   extended_mixture_ = std::move(mixture);
+  mode_shifts_ = mode_shifts;
   calibration_ = std::move(calibration);
   calibration_id_ = id;
   windows_.clear();
@@ -62,7 +80,7 @@ void ScanCompensator::clear_calibration() {
 }
 
 void ScanCompensator::set_window_options(const core::SlidingWindowOptions& window) {
-  if (calibration_) core::SlidingWindowEstimator check(extended_mixture_, window);
+  if (calibration_) core::SlidingWindowEstimator check(extended_mixture_, window, mode_shifts_);
   window_options_ = window;
   windows_.clear();
 }
@@ -71,7 +89,7 @@ void ScanCompensator::rebuild_windows(std::size_t beams) {
   windows_.clear();
   windows_.reserve(beams);
   for (std::size_t b = 0; b < beams; ++b) {
-    windows_.emplace_back(extended_mixture_, window_options_);
+    windows_.emplace_back(extended_mixture_, window_options_, mode_shifts_);
   }
 }
 
@@ -105,12 +123,22 @@ ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
     scan_flags |= ipc::kBeamTemperatureExtrapolated;
   }
   if (compensating && windows_.size() != beams) rebuild_windows(beams);
-  // Eq. 8: the bias H(t̂^j)θ̂ (and an extension's γ·c) is one value for the whole scan, and so
-  // is the junction's temperature bin.
-  const double bias = compensating ? calibration_->model.bias_at(junction.junction_c) +
-                                         covariate_bias(*calibration_, scan.time_s, junction)
-                                   : 0.0;
-  const int bin = compensating ? junction_bin(extended_mixture_, junction.junction_c) : 0;
+  // Eq. 8: the bias H(t̂^j)θ̂ (and an extension's bias terms) is one value for the whole scan, and
+  // so are the noise state and the modes' offset shifts.
+  double bias = 0.0;
+  int state = 0;
+  Eigen::VectorXd shift;
+  if (compensating) {
+    bias = calibration_->model.bias_at(junction.junction_c);
+    if (calibration_->extension) {
+      for (JunctionLag& lag : lags_) lag.update(scan.time_s, junction.junction_c);
+      const core::CovariatesAt at =
+          covariates_at_scan(*calibration_, scan.time_s, junction, lags_);
+      bias += calibration_->extension->bias_at(at);
+      state = calibration_->extension->state_at(at);
+      if (mode_shifts_) shift = calibration_->extension->mode_shift_at(at);
+    }
+  }
   const core::MixtureParameters* modes = calibrated ? &extended_mixture_.modes : nullptr;
 
   for (std::size_t b = 0; b < beams; ++b) {
@@ -133,12 +161,13 @@ ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
     v.raw_mm = y;
     if (!compensating) continue;
     const double corrected = y - bias;
-    const core::WindowEstimate e = windows_[b].add(corrected, bin);
+    const core::WindowEstimate e = windows_[b].add(corrected, state, shift);
     v.most_probable_mode = static_cast<std::uint8_t>(e.most_probable_mode);
     for (int i = 0; i < modes->modes(); ++i) {
       v.mode_posterior[static_cast<std::size_t>(i)] = static_cast<float>(e.posterior[i]);
     }
-    v.compensated_mm = corrected - modes->mean[e.most_probable_mode];
+    v.compensated_mm = corrected - modes->mean[e.most_probable_mode] -
+                       (mode_shifts_ ? shift[e.most_probable_mode] : 0.0);
     if (e.restarting) {
       v.flags |= ipc::kBeamWindowRestarting;
     } else {

@@ -7,11 +7,10 @@
 // that says why, and nothing else (never a NaN where a number is expected: the flag marks it).
 //
 // A calibration with a model extension (core/model_extension.hpp) is applied as offline
-// (calibration/compensation.cpp): the scan's bias gains γ·c, c the hours since the pipeline's clock
-// origin (RawScan::time_s / 3600), the junction's heating rate or the warm-up exp(−t_on/τ) from the
-// time since the last power-on (both in JunctionEstimate), and every window
-// tests d under the extended mixture, each range with the temperature bin of the scan's junction
-// estimate. A range the outlier component takes (P > 0.5) is flagged kBeamOutlier.
+// (calibration/compensation.cpp), its terms evaluated on the scan's covariates
+// (covariates_at_scan): the scan's bias gains the bias terms, and every window tests d under the
+// extended mixture, each range with the scan's noise state and its modes' offset shifts. A range
+// the outlier component takes (P > 0.5) is flagged kBeamOutlier.
 #pragma once
 
 #include <cstdint>
@@ -26,10 +25,22 @@
 
 namespace tofcomp::realtime {
 
-// γ·c of the calibration's extension for a scan at time_s (the pipeline's clock) with this
-// junction estimate; 0 without an extension or a covariate.
-double covariate_bias(const core::Calibration& calibration, double time_s,
-                      const JunctionEstimate& junction);
+// The node of a junction lag (core/covariate_table.hpp) in real time: a first-order low-pass of
+// the junction estimate, scan by scan, starting at the first scan's junction temperature.
+struct JunctionLag {
+  double time_constant_s = 0.0;
+  double node_c = 0.0;
+  double last_time_s = 0.0;
+  bool started = false;
+  void update(double time_s, double junction_c);
+};
+
+// The covariates of a scan at time_s (the pipeline's clock): the junction estimate's temperature,
+// heating rate and time since power-on, the hours since the clock's origin, the calibration's
+// ambient (the daemon has no ambient sensor) and the lags' nodes less the junction.
+core::CovariatesAt covariates_at_scan(const core::Calibration& calibration, double time_s,
+                                      const JunctionEstimate& junction,
+                                      const std::vector<JunctionLag>& lags);
 
 class ScanCompensator {
  public:
@@ -56,6 +67,8 @@ class ScanCompensator {
   std::shared_ptr<const core::Calibration> calibration_;
   std::uint32_t calibration_id_ = 0;
   core::ExtendedMixture extended_mixture_;             // the calibration's (extended) mixture
+  bool mode_shifts_ = false;                           // its extension moves a mode's offset
+  std::vector<JunctionLag> lags_;                      // one per lag its terms read
   std::vector<core::SlidingWindowEstimator> windows_;  // one per beam, when calibrated
 };
 

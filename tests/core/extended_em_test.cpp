@@ -24,6 +24,28 @@ MixtureParameters two_modes() {
   return m;
 }
 
+const Eigen::MatrixXd kNoShift(0, 0);
+
+// The design of a fit with shared columns h, no mode-offset columns and the given states.
+ExtendedDesign design(const Eigen::MatrixXd& h, int modes, const Eigen::VectorXi& state) {
+  return {h, std::vector<Eigen::MatrixXd>(static_cast<std::size_t>(modes)), state};
+}
+
+ExtendedParameters start_at(const Eigen::VectorXd& theta, const ExtendedMixture& model) {
+  return {theta, std::vector<Eigen::VectorXd>(static_cast<std::size_t>(model.modes.modes())),
+          model};
+}
+
+// A noise term of the bins form on the junction temperature with the given interior edges.
+Term temperature_bins(Parameter parameter, const Eigen::VectorXd& edges) {
+  Term t;
+  t.parameter = parameter;
+  t.covariate = Covariate::JunctionTemperature;
+  t.form = Form::Bins;
+  t.knots = edges;
+  return t;
+}
+
 double normal_pdf(double x, double mean, double variance) {
   return std::exp(-0.5 * (x - mean) * (x - mean) / variance) /
          std::sqrt(2.0 * std::numbers::pi * variance);
@@ -52,7 +74,7 @@ TEST(ExtendedMixture, WithoutExtensionsIsThePapersEStep) {
   const double expected_ll = mixture_e_step(e, two_modes(), expected);
   ExtendedResponsibilities r;
   const double ll =
-      extended_e_step(e, Eigen::VectorXi::Zero(50), without_extensions(two_modes()), r);
+      extended_e_step(e, Eigen::VectorXi::Zero(50), kNoShift, without_extensions(two_modes()), r);
   EXPECT_DOUBLE_EQ(ll, expected_ll);
   EXPECT_TRUE(r.mode.isApprox(expected, 1e-15));
   EXPECT_EQ(r.outlier.size(), 50);
@@ -67,7 +89,7 @@ TEST(ExtendedMixture, ChainWithIdenticalRowsIsIndependentDraws) {
   ExtendedMixture chain = without_extensions(m);
   chain.transition = Eigen::Vector2d::Ones() * m.weight.transpose();
   ExtendedResponsibilities r;
-  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(200), chain, r);
+  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(200), kNoShift, chain, r);
   Eigen::MatrixXd expected;
   EXPECT_NEAR(ll, mixture_e_step(e, m, expected), 1e-9);
   EXPECT_TRUE(r.mode.isApprox(expected, 1e-10));
@@ -103,7 +125,7 @@ TEST(ExtendedMixture, ChainMatchesEnumerationOfEveryPath) {
   ExtendedMixture chain = without_extensions(m);
   chain.transition = a;
   ExtendedResponsibilities r;
-  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(8), chain, r);
+  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(8), kNoShift, chain, r);
   EXPECT_NEAR(ll, std::log(total), 1e-12);
   EXPECT_TRUE(r.mode.isApprox(posterior / total, 1e-12));
   EXPECT_TRUE(r.transitions.isApprox(pairs / total, 1e-12));
@@ -115,7 +137,7 @@ TEST(ExtendedMixture, OutlierComponentMatchesItsDensity) {
   m.outlier_density = 1.0 / 200.0;
   const Eigen::VectorXd e = (Eigen::VectorXd(3) << 0.0, 1.5, 60.0).finished();
   ExtendedResponsibilities r;
-  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(3), m, r);
+  const double ll = extended_e_step(e, Eigen::VectorXi::Zero(3), kNoShift, m, r);
   double expected = 0.0;
   for (Eigen::Index k = 0; k < 3; ++k) {
     const double inlier = 0.6 * normal_pdf(e[k], -1.0, 0.8) + 0.4 * normal_pdf(e[k], 1.5, 1.2);
@@ -136,11 +158,15 @@ TEST(ExtendedMixture, ValidationNamesTheProblem) {
   m.outlier_density = 0.01;
   EXPECT_THROW(m.validate(), InvalidInput);  // a chain with an outlier component
   m = without_extensions(two_modes());
-  m.bin_edges_c = Eigen::Vector2d(26.0, 25.0);
+  m.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, Eigen::Vector2d(26.0, 25.0)),
+                            Eigen::MatrixXd::Constant(3, 2, 0.5)};
   EXPECT_THROW(m.validate(), InvalidInput);  // edges not increasing
-  m.bin_edges_c = Eigen::Vector2d(25.0, 26.0);
-  m.bin_weight = Eigen::MatrixXd::Constant(2, 2, 0.5);
+  m.weight_bins->term.knots = Eigen::Vector2d(25.0, 26.0);
+  m.weight_bins->table = Eigen::MatrixXd::Constant(2, 2, 0.5);
   EXPECT_THROW(m.validate(), InvalidInput);  // 3 bins need 3 rows
+  m.weight_bins->table = Eigen::MatrixXd::Constant(3, 2, 0.5);
+  m.weight_bins->term.parameter = Parameter::Spread;
+  EXPECT_THROW(m.validate(), InvalidInput);  // a spread term holding weights
 }
 
 // EM on chain data recovers the transition matrix it was drawn from; the likelihood never falls.
@@ -152,13 +178,13 @@ TEST(ExtendedEm, RecoversTheTransitionMatrix) {
   const Eigen::VectorXd e = draw_chain(truth, a, k, 3);
   ExtendedMixture start = without_extensions(two_modes());
   start.transition = Eigen::Matrix2d::Constant(0.5);
-  const ExtendedEmResult fit = train_extended_em(Eigen::MatrixXd(k, 0), e, Eigen::VectorXi::Zero(k),
-                                                 Eigen::VectorXd(0), start);
+  const ExtendedEmResult fit = train_extended_em(design(Eigen::MatrixXd(k, 0), 2, Eigen::VectorXi::Zero(k)), e,
+                                                 start_at(Eigen::VectorXd(0), start));
   EXPECT_TRUE(fit.converged);
-  EXPECT_NEAR(fit.model.transition(0, 0), 0.92, 0.01);
-  EXPECT_NEAR(fit.model.transition(1, 1), 0.88, 0.015);
-  EXPECT_NEAR(fit.model.modes.mean[0], -1.0, 0.05);
-  EXPECT_NEAR(fit.model.modes.mean[1], 1.5, 0.05);
+  EXPECT_NEAR(fit.fit.model.transition(0, 0), 0.92, 0.01);
+  EXPECT_NEAR(fit.fit.model.transition(1, 1), 0.88, 0.015);
+  EXPECT_NEAR(fit.fit.model.modes.mean[0], -1.0, 0.05);
+  EXPECT_NEAR(fit.fit.model.modes.mean[1], 1.5, 0.05);
   for (std::size_t i = 1; i < fit.log_likelihood_trace.size(); ++i) {
     EXPECT_GE(fit.log_likelihood_trace[i], fit.log_likelihood_trace[i - 1] - 1e-8);
   }
@@ -182,18 +208,24 @@ TEST(ExtendedEm, RecoversBinWeightsVariancesAndBias) {
     y[i] = -0.8 * h(i, 0) + (mode ? 2.0 : -2.0) + spread[bin] * n(rng);
   }
   ExtendedMixture start = without_extensions(two_modes());
-  start.bin_edges_c = Eigen::VectorXd::Constant(1, 26.0);
-  start.bin_weight = Eigen::MatrixXd::Constant(2, 2, 0.5);
-  start.bin_variance = Eigen::MatrixXd::Ones(2, 2);
-  const ExtendedEmResult fit =
-      train_extended_em(h, y, start.bin_of(t), Eigen::VectorXd::Zero(1), start);
+  const Eigen::VectorXd edge = Eigen::VectorXd::Constant(1, 26.0);
+  start.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, edge),
+                                Eigen::MatrixXd::Constant(2, 2, 0.5)};
+  start.variance_bins =
+      NoiseBins{temperature_bins(Parameter::Spread, edge), Eigen::MatrixXd::Ones(2, 2)};
+  // The noise state of each range: its weight bin × 2 + its spread bin (the same bin here).
+  Eigen::VectorXi state(k);
+  for (Eigen::Index i = 0; i < k; ++i) state[i] = t[i] >= 26.0 ? 3 : 0;
+  const ExtendedEmResult em =
+      train_extended_em(design(h, 2, state), y, start_at(Eigen::VectorXd::Zero(1), start));
+  const ExtendedParameters& fit = em.fit;
   EXPECT_NEAR(fit.theta[0], -0.8, 0.02);
   EXPECT_NEAR(fit.model.modes.mean[0], -2.0, 0.05);
   EXPECT_NEAR(fit.model.modes.mean[1], 2.0, 0.05);
-  EXPECT_NEAR(fit.model.bin_weight(0, 1), 0.2, 0.015);
-  EXPECT_NEAR(fit.model.bin_weight(1, 1), 0.7, 0.015);
-  EXPECT_NEAR(std::sqrt(fit.model.bin_variance(0, 0)), 0.7, 0.03);
-  EXPECT_NEAR(std::sqrt(fit.model.bin_variance(1, 1)), 1.4, 0.05);
+  EXPECT_NEAR(fit.model.weight_bins->table(0, 1), 0.2, 0.015);
+  EXPECT_NEAR(fit.model.weight_bins->table(1, 1), 0.7, 0.015);
+  EXPECT_NEAR(std::sqrt(fit.model.variance_bins->table(0, 0)), 0.7, 0.03);
+  EXPECT_NEAR(std::sqrt(fit.model.variance_bins->table(1, 1)), 1.4, 0.05);
 }
 
 TEST(ExtendedEm, RecoversTheOutlierWeight) {
@@ -208,8 +240,10 @@ TEST(ExtendedEm, RecoversTheOutlierWeight) {
   ExtendedMixture start = without_extensions(two_modes());
   start.outlier_weight = 0.01;
   start.outlier_density = 1.0 / 200.0;
-  const ExtendedEmResult fit = train_extended_em(Eigen::MatrixXd(k, 0), e, Eigen::VectorXi::Zero(k),
-                                                 Eigen::VectorXd(0), start);
+  const ExtendedEmResult em =
+      train_extended_em(design(Eigen::MatrixXd(k, 0), 2, Eigen::VectorXi::Zero(k)), e,
+                        start_at(Eigen::VectorXd(0), start));
+  const ExtendedParameters& fit = em.fit;
   // Outliers that land among the modes (≈ 3 % × 6 mm / 200 mm) count as inliers.
   EXPECT_NEAR(fit.model.outlier_weight, 0.03, 0.004);
   EXPECT_NEAR(fit.model.modes.weight[0], 0.6, 0.03);
@@ -221,7 +255,7 @@ TEST(ExtendedEm, TestingWithoutExtensionsIsThePapersTesting) {
   const Eigen::VectorXd bias = Eigen::VectorXd::Constant(300, 0.25);
   const EmTestResult paper = test_em(y, bias, two_modes());
   const EmTestResult extended =
-      test_extended_em(y, bias, Eigen::VectorXi::Zero(300), without_extensions(two_modes()));
+      test_extended_em(y, bias, Eigen::VectorXi::Zero(300), kNoShift, without_extensions(two_modes()));
   EXPECT_NEAR(extended.distance, paper.distance, 1e-9);
   EXPECT_NEAR(extended.distance_std, paper.distance_std, 1e-9);
 }
@@ -239,22 +273,92 @@ TEST(ExtendedEm, OutlierComponentProtectsTheDistance) {
   m.outlier_weight = 0.02;
   m.outlier_density = 1.0 / 200.0;
   const Eigen::VectorXd bias = Eigen::VectorXd::Zero(400);
-  const double protected_d = test_extended_em(y, bias, Eigen::VectorXi::Zero(400), m).distance;
+  const double protected_d =
+      test_extended_em(y, bias, Eigen::VectorXi::Zero(400), kNoShift, m).distance;
   const double pulled_d = test_em(y, bias, two_modes()).distance;
   EXPECT_NEAR(protected_d, 3000.0, 0.15);
   EXPECT_GT(std::abs(pulled_d - 3000.0), 3.0 * std::abs(protected_d - 3000.0))
       << "protected " << protected_d << ", pulled " << pulled_d;
 }
 
-TEST(ExtendedEm, QuantileEdgesSplitEvenly) {
-  Eigen::VectorXd v(8);
-  v << 5, 1, 7, 3, 2, 8, 4, 6;
-  const Eigen::VectorXd edges = quantile_edges(v, 4);
-  ASSERT_EQ(edges.size(), 3);
-  EXPECT_EQ(edges[0], 3.0);
-  EXPECT_EQ(edges[1], 5.0);
-  EXPECT_EQ(edges[2], 7.0);
-  EXPECT_THROW(quantile_edges(Eigen::VectorXd::Constant(10, 1.0), 4), InvalidInput);
+// One mode's offset moving with a covariate (a mode-offset term): EM recovers its slope beside
+// the shared bias, and testing with the fitted shifts finds d where the unshifted mixture does not.
+TEST(ExtendedEm, RecoversAModeOffsetSlope) {
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Index k = 30000;
+  Eigen::MatrixXd h(k, 1), z(k, 1);
+  Eigen::VectorXd y(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const double t = u(rng) * 2.0 - 1.0;  // a standardized covariate
+    h(i, 0) = t;
+    z(i, 0) = t;
+    const bool second = u(rng) < 0.4;
+    // Mode 2 drifts 1.5 mm per unit of the covariate; the shared bias is 0.5 per unit.
+    y[i] = 0.5 * t + (second ? 1.5 + 1.5 * t : -1.0) + 0.6 * n(rng);
+  }
+  ExtendedDesign d = design(h, 2, Eigen::VectorXi::Zero(k));
+  d.mode_columns[1] = z;
+  ExtendedParameters start = start_at(Eigen::VectorXd::Zero(1), without_extensions(two_modes()));
+  start.mode_coefficients[1] = Eigen::VectorXd::Zero(1);
+  const ExtendedEmResult em = train_extended_em(d, y, start);
+  EXPECT_NEAR(em.fit.theta[0], 0.5, 0.03);
+  EXPECT_NEAR(em.fit.mode_coefficients[1][0], 1.5, 0.05);
+  EXPECT_NEAR(em.fit.model.modes.mean[0], -1.0, 0.03);
+  EXPECT_NEAR(em.fit.model.modes.mean[1], 1.5, 0.05);
+  for (std::size_t i = 1; i < em.log_likelihood_trace.size(); ++i) {
+    EXPECT_GE(em.log_likelihood_trace[i], em.log_likelihood_trace[i - 1] - 1e-8);
+  }
+  // A window where the covariate sits at +1: mode 2 at 3 mm, not at 1.5 mm.
+  const Eigen::Index w = 400;
+  Eigen::VectorXd window(w), bias = Eigen::VectorXd::Constant(w, 0.5);
+  for (Eigen::Index i = 0; i < w; ++i) {
+    window[i] = 3000.0 + 0.5 + (i % 5 < 2 ? 3.0 : -1.0) + 0.6 * n(rng);
+  }
+  const Eigen::MatrixXd shift = mode_shifts(
+      design(Eigen::MatrixXd(w, 0), 2, Eigen::VectorXi::Zero(w)), em.fit.mode_coefficients);
+  EXPECT_EQ(shift.size(), 0);  // no columns in that design: no shift
+  Eigen::MatrixXd window_shift = Eigen::MatrixXd::Zero(w, 2);
+  window_shift.col(1).setConstant(em.fit.mode_coefficients[1][0]);
+  const double shifted =
+      test_extended_em(window, bias, Eigen::VectorXi::Zero(w), window_shift, em.fit.model)
+          .distance;
+  const double unshifted =
+      test_extended_em(window, bias, Eigen::VectorXi::Zero(w), kNoShift, em.fit.model).distance;
+  EXPECT_NEAR(shifted, 3000.0, 0.1);
+  EXPECT_GT(std::abs(unshifted - 3000.0), 0.3);
+}
+
+// Weights binned by one covariate and spreads by another: each recovered in its own bins.
+TEST(ExtendedEm, WeightsAndSpreadsBinnedByDifferentCovariates) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Index k = 40000;
+  const Eigen::Vector2d weight_of_mode2(0.25, 0.65);  // by the first covariate's bin
+  const Eigen::Vector2d spread(0.6, 1.2);             // by the second's
+  Eigen::VectorXi state(k);
+  Eigen::VectorXd y(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const int wb = u(rng) < 0.5 ? 1 : 0, sb = u(rng) < 0.5 ? 1 : 0;
+    state[i] = wb * 2 + sb;
+    const int mode = u(rng) < weight_of_mode2[wb] ? 1 : 0;
+    y[i] = (mode ? 2.5 : -2.5) + spread[sb] * n(rng);
+  }
+  ExtendedMixture start = without_extensions(two_modes());
+  Term time_bins = temperature_bins(Parameter::Spread, Eigen::VectorXd::Constant(1, 1.0));
+  time_bins.covariate = Covariate::Time;
+  start.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, Eigen::VectorXd::Constant(1, 26.0)),
+                                Eigen::MatrixXd::Constant(2, 2, 0.5)};
+  start.variance_bins = NoiseBins{time_bins, Eigen::MatrixXd::Ones(2, 2)};
+  const ExtendedEmResult em = train_extended_em(design(Eigen::MatrixXd(k, 0), 2, state), y,
+                                                start_at(Eigen::VectorXd(0), start));
+  const ExtendedParameters& fit = em.fit;
+  EXPECT_NEAR(fit.model.weight_bins->table(0, 1), 0.25, 0.015);
+  EXPECT_NEAR(fit.model.weight_bins->table(1, 1), 0.65, 0.015);
+  EXPECT_NEAR(std::sqrt(fit.model.variance_bins->table(0, 0)), 0.6, 0.02);
+  EXPECT_NEAR(std::sqrt(fit.model.variance_bins->table(1, 1)), 1.2, 0.03);
 }
 
 }  // namespace

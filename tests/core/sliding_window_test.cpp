@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/extended_em.hpp"
 #include "core/sliding_window_estimator.hpp"
+#include "core/covariate_table.hpp"
 #include "tests/support/synthetic_measurements.hpp"
 
 namespace tofcomp::core {
@@ -151,7 +152,23 @@ TEST(SlidingWindow, RestartingFlagUntilMinSamples) {
 struct ExtendedCase {
   std::string name;
   ExtendedMixture noise;
+  double mode2_slope = 0.0;  // mm per °C of the junction: mode 2's offset shift (0: none)
 };
+
+Term temperature_bins(Parameter parameter) {
+  Term t;
+  t.parameter = parameter;
+  t.covariate = Covariate::JunctionTemperature;
+  t.form = Form::Bins;
+  t.knots = Eigen::VectorXd::Constant(1, 30.0);
+  return t;
+}
+
+int state_at(const ExtendedMixture& m, double junction) {
+  const int weight_bin = m.weight_bins ? term_bin(m.weight_bins->term, junction) : 0;
+  const int variance_bin = m.variance_bins ? term_bin(m.variance_bins->term, junction) : 0;
+  return m.state(weight_bin, variance_bin);
+}
 
 // One extension at a time, as a calibration carries them: two temperature bins (edge 30 °C)
 // with their own weights or spreads, a Markov chain over the modes, an outlier component
@@ -159,15 +176,14 @@ struct ExtendedCase {
 std::vector<ExtendedCase> extended_cases() {
   std::vector<ExtendedCase> cases;
   ExtendedMixture weights = without_extensions(kModes);
-  weights.bin_edges_c = Eigen::VectorXd::Constant(1, 30.0);
-  weights.bin_weight.resize(2, 2);
-  weights.bin_weight << 0.85, 0.15, 0.2, 0.8;
+  weights.weight_bins = NoiseBins{temperature_bins(Parameter::Weights), Eigen::MatrixXd(2, 2)};
+  weights.weight_bins->table << 0.85, 0.15, 0.2, 0.8;
   cases.push_back({"bin weights", weights});
   ExtendedMixture spread = without_extensions(kModes);
-  spread.bin_edges_c = Eigen::VectorXd::Constant(1, 30.0);
-  spread.bin_variance.resize(2, 2);
-  spread.bin_variance << 0.5, 0.6, 2.5, 3.0;
+  spread.variance_bins = NoiseBins{temperature_bins(Parameter::Spread), Eigen::MatrixXd(2, 2)};
+  spread.variance_bins->table << 0.5, 0.6, 2.5, 3.0;
   cases.push_back({"bin variances", spread});
+  cases.push_back({"mode offset shift", without_extensions(kModes), 0.3});
   ExtendedMixture chain = without_extensions(kModes);
   chain.transition.resize(2, 2);
   chain.transition << 0.95, 0.05, 0.08, 0.92;
@@ -184,21 +200,25 @@ std::vector<ExtendedCase> extended_cases() {
 struct ExtendedDraw {
   Eigen::VectorXd y;
   Eigen::VectorXi bin;
+  Eigen::MatrixXd shift;  // K × M: each range's mode offset shifts (empty: none)
 };
 
 // Ranges at distance d drawn from the extended model itself; the junction sweeps 24..36 °C
 // (both bins) over 300 ranges.
-ExtendedDraw draw_extended(const ExtendedMixture& noise, double d, Eigen::Index k, unsigned seed) {
+ExtendedDraw draw_extended(const ExtendedCase& c, double d, Eigen::Index k, unsigned seed) {
+  const ExtendedMixture& noise = c.noise;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal;
   const int m = noise.modes.modes();
-  ExtendedDraw out{Eigen::VectorXd(k), Eigen::VectorXi(k)};
+  ExtendedDraw out{Eigen::VectorXd(k), Eigen::VectorXi(k), Eigen::MatrixXd(0, 0)};
+  if (c.mode2_slope != 0.0) out.shift = Eigen::MatrixXd::Zero(k, m);
   int mode = 0;
   for (Eigen::Index j = 0; j < k; ++j) {
     const double junction = 24.0 + 12.0 * static_cast<double>(j % 300) / 300.0;
-    const int b = noise.bin_of(Eigen::VectorXd::Constant(1, junction))[0];
+    const int b = state_at(noise, junction);
     out.bin[j] = b;
+    if (c.mode2_slope != 0.0) out.shift(j, 1) = c.mode2_slope * (junction - 30.0);
     double u = unit(rng);
     if (noise.transition.size() > 0 && j > 0) {
       int next = 0;
@@ -212,7 +232,8 @@ ExtendedDraw draw_extended(const ExtendedMixture& noise, double d, Eigen::Index 
       out.y[j] = d + (unit(rng) - 0.5) / noise.outlier_density;
       continue;
     }
-    out.y[j] = d + noise.modes.mean[mode] + std::sqrt(noise.variance(b, mode)) * normal(rng);
+    out.y[j] = d + noise.modes.mean[mode] + (out.shift.size() > 0 ? out.shift(j, mode) : 0.0) +
+               std::sqrt(noise.variance(b, mode)) * normal(rng);
   }
   return out;
 }
@@ -225,11 +246,14 @@ TEST(SlidingWindowExtended, ExactEqualsBatchExtendedTest) {
   for (const ExtendedCase& c : extended_cases()) {
     SlidingWindowOptions options;
     options.window = 150;
-    SlidingWindowEstimator estimator(c.noise, options);
-    const ExtendedDraw data = draw_extended(c.noise, 3000.0, 600, 5);
+    const bool shifted = c.mode2_slope != 0.0;
+    SlidingWindowEstimator estimator(c.noise, options, shifted);
+    const ExtendedDraw data = draw_extended(c, 3000.0, 600, 5);
     Eigen::Index start = 0;
     for (Eigen::Index k = 0; k < data.y.size(); ++k) {
-      const WindowEstimate e = estimator.add(data.y[k], data.bin[k]);
+      const WindowEstimate e =
+          estimator.add(data.y[k], data.bin[k],
+                        shifted ? Eigen::VectorXd(data.shift.row(k).transpose()) : Eigen::VectorXd());
       if (e.change_detected) {
         // Only a window that started on an outlier is restarted, at the end of its run.
         ASSERT_LT(k, 20) << c.name;
@@ -237,8 +261,10 @@ TEST(SlidingWindowExtended, ExactEqualsBatchExtendedTest) {
       }
       if (k % 41 != 0 && k != data.y.size() - 1) continue;
       const Eigen::Index n = std::min<Eigen::Index>(k + 1 - start, 150);
-      const auto batch = test_extended_em(data.y.segment(k + 1 - n, n), Eigen::VectorXd::Zero(n),
-                                          data.bin.segment(k + 1 - n, n), c.noise);
+      const auto batch = test_extended_em(
+          data.y.segment(k + 1 - n, n), Eigen::VectorXd::Zero(n), data.bin.segment(k + 1 - n, n),
+          shifted ? Eigen::MatrixXd(data.shift.middleRows(k + 1 - n, n)) : Eigen::MatrixXd(0, 0),
+          c.noise);
       EXPECT_NEAR(e.distance, batch.distance, 1e-4) << c.name << " " << k;
       EXPECT_NEAR(e.distance_std, batch.distance_std, 1e-3 * batch.distance_std) << c.name;
       EXPECT_NEAR(
@@ -259,20 +285,25 @@ TEST(SlidingWindowExtended, ExactEqualsBatchExtendedTest) {
 // also close to the truth: |d̂ − d| < 5 σ_d on average.
 TEST(SlidingWindowExtended, IncrementalTracksTheBatchExtendedTest) {
   for (const ExtendedCase& c : extended_cases()) {
-    SlidingWindowEstimator estimator(c.noise, incremental(200));
+    const bool shifted = c.mode2_slope != 0.0;
+    SlidingWindowEstimator estimator(c.noise, incremental(200), shifted);
     const Eigen::Index n = 100000;
-    const ExtendedDraw data = draw_extended(c.noise, 3000.0, n, 23);
+    const ExtendedDraw data = draw_extended(c, 3000.0, n, 23);
     double sum_square = 0.0;
     double largest = 0.0;
     double truth_square = 0.0;
     int checks = 0;
     for (Eigen::Index k = 0; k < n; ++k) {
-      const WindowEstimate e = estimator.add(data.y[k], data.bin[k]);
+      const WindowEstimate e =
+          estimator.add(data.y[k], data.bin[k],
+                        shifted ? Eigen::VectorXd(data.shift.row(k).transpose()) : Eigen::VectorXd());
       ASSERT_FALSE(e.change_detected) << c.name << " " << k;
       if ((k + 1) % 250 != 0) continue;
-      const auto batch =
-          test_extended_em(data.y.segment(k + 1 - 200, 200), Eigen::VectorXd::Zero(200),
-                           data.bin.segment(k + 1 - 200, 200), c.noise);
+      const auto batch = test_extended_em(
+          data.y.segment(k + 1 - 200, 200), Eigen::VectorXd::Zero(200),
+          data.bin.segment(k + 1 - 200, 200),
+          shifted ? Eigen::MatrixXd(data.shift.middleRows(k + 1 - 200, 200)) : Eigen::MatrixXd(0, 0),
+          c.noise);
       const double z = (e.distance - batch.distance) / batch.distance_std;
       sum_square += z * z;
       truth_square += std::pow((e.distance - 3000.0) / batch.distance_std, 2);
@@ -298,7 +329,11 @@ TEST(SlidingWindowExtended, IncrementalTracksTheBatchExtendedTest) {
 // caller) and neither moves d̂ nor restarts the window; a run of them (6 at ε = 5 %: the
 // smallest n with ε^n < 1e-7) is a change of scene.
 TEST(SlidingWindowExtended, OutliersNeitherMoveNorRestartTheWindow) {
-  ExtendedMixture noise = extended_cases()[3].noise;
+  ExtendedMixture noise;
+  for (const ExtendedCase& c : extended_cases()) {
+    if (c.name == "outliers") noise = c.noise;
+  }
+  ASSERT_GT(noise.outlier_weight, 0.0);
   for (const WindowEm method : {WindowEm::Exact, WindowEm::Incremental}) {
     SlidingWindowOptions options = incremental(200);
     options.method = method;

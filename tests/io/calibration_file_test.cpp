@@ -99,7 +99,7 @@ TEST(CalibrationFile, TrainedJunctionRangeRoundTrips) {
 
 TEST(CalibrationFile, ErrorsNameTheFileAndKey) {
   const std::string good = calibration_to_yaml(example());
-  EXPECT_NE(error_of(replaced(good, "version: 1", "version: 2")).find("version is 2"),
+  EXPECT_NE(error_of(replaced(good, "version: 2", "version: 3")).find("version is 3"),
             std::string::npos);
   EXPECT_NE(error_of(replaced(good, "schema: tofcomp-calibration", "schema: other"))
                 .find("schema must be tofcomp-calibration"),
@@ -154,18 +154,46 @@ TEST(CalibrationFile, TrainingChoicesRoundTrip) {
   }
 }
 
+// A term of the grammar with every field a file can hold set.
+core::Term term(core::Parameter p, core::Covariate c, core::Form f) {
+  core::Term t;
+  t.parameter = p;
+  t.covariate = c;
+  t.form = f;
+  return t;
+}
+
 // Every part an extension can hold survives the file exactly.
 TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   core::Calibration c = example();
   core::ModelExtension e;
-  e.effect = core::EffectKind::TemperatureDependentSpread;
-  e.covariate = core::Covariate::HeatingRateCPerMinute;
-  e.covariate_mm = 1.0 / 3.0;
+  core::Term smooth = term(core::Parameter::Bias, core::Covariate::Time, core::Form::Smooth);
+  smooth.knots = (Eigen::VectorXd(5) << 0.1, 1.0 / 3.0, 2.5, 4.0, 6.75).finished();
+  core::Term offset =
+      term(core::Parameter::ModeOffset, core::Covariate::JunctionTemperature, core::Form::Linear);
+  offset.mode = 1;
+  offset.centre = 26.125;
+  offset.scale = 1.0 / 7.0;
+  core::Term lag = term(core::Parameter::Bias, core::Covariate::JunctionLag, core::Form::Linear);
+  lag.time_constant_s = 1000.0 / 3.0;
+  lag.scale = 0.25;
+  e.effects = {smooth.label(), offset.label(), lag.label(),
+               {core::Parameter::Weights, core::Covariate::TimeSincePowerOn},
+               {core::Parameter::Spread, core::Covariate::JunctionTemperature},
+               {core::Parameter::Outliers, core::Covariate::None}};
+  e.mean_terms = {{smooth, (Eigen::VectorXd(4) << 0.5, -1.0 / 3.0, 0.25, 2.0).finished()},
+                  {offset, Eigen::VectorXd::Constant(1, 0.1)},
+                  {lag, Eigen::VectorXd::Constant(1, -2.0 / 3.0)}};
   e.extended_mixture = core::without_extensions(c.model.mixture);
-  e.extended_mixture.bin_edges_c = Eigen::Vector2d(25.5, 27.25);
-  e.extended_mixture.bin_variance = Eigen::MatrixXd::Constant(3, 2, 0.7);
-  e.extended_mixture.bin_variance(2, 1) = 1.0 / 7.0;
-  e.extended_mixture.bin_weight = Eigen::MatrixXd::Constant(3, 2, 0.5);
+  core::Term weights =
+      term(core::Parameter::Weights, core::Covariate::TimeSincePowerOn, core::Form::Bins);
+  weights.knots = Eigen::Vector2d(120.0, 900.5);
+  e.extended_mixture.weight_bins = core::NoiseBins{weights, Eigen::MatrixXd::Constant(3, 2, 0.5)};
+  core::Term spread =
+      term(core::Parameter::Spread, core::Covariate::JunctionTemperature, core::Form::Bins);
+  spread.knots = Eigen::Vector2d(25.5, 27.25);
+  e.extended_mixture.variance_bins = core::NoiseBins{spread, Eigen::MatrixXd::Constant(3, 2, 0.7)};
+  e.extended_mixture.variance_bins->table(2, 1) = 1.0 / 7.0;
   e.extended_mixture.outlier_weight = 0.015;
   e.extended_mixture.outlier_density = 1.0 / 180.0;
   c.extension = e;
@@ -173,39 +201,39 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   write_calibration_file(file, c);
   const core::Calibration back = read_calibration_file(file);
   ASSERT_TRUE(back.extension.has_value());
-  EXPECT_EQ(back.extension->effect, e.effect);
-  EXPECT_EQ(back.extension->covariate, e.covariate);
-  EXPECT_EQ(back.extension->covariate_mm, e.covariate_mm);
-  EXPECT_EQ(back.extension->extended_mixture.bin_edges_c, e.extended_mixture.bin_edges_c);
-  EXPECT_EQ(back.extension->extended_mixture.bin_variance, e.extended_mixture.bin_variance);
-  EXPECT_EQ(back.extension->extended_mixture.bin_weight, e.extended_mixture.bin_weight);
-  EXPECT_EQ(back.extension->extended_mixture.outlier_weight, e.extended_mixture.outlier_weight);
-  EXPECT_DOUBLE_EQ(back.extension->extended_mixture.outlier_density,
-                   e.extended_mixture.outlier_density);
-  EXPECT_EQ(back.extension->extended_mixture.modes.mean, c.model.mixture.mean);
+  const core::ModelExtension& x = *back.extension;
+  EXPECT_EQ(x.effects, e.effects);
+  ASSERT_EQ(x.mean_terms.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const core::Term &a = x.mean_terms[i].term, &b = e.mean_terms[i].term;
+    EXPECT_EQ(a.describe(), b.describe());
+    EXPECT_EQ(a.mode, b.mode);
+    EXPECT_EQ(a.knots, b.knots);
+    EXPECT_EQ(a.centre, b.centre);
+    EXPECT_EQ(a.scale, b.scale);
+    EXPECT_EQ(a.time_constant_s, b.time_constant_s);
+    EXPECT_EQ(x.mean_terms[i].coefficients, e.mean_terms[i].coefficients);
+  }
+  EXPECT_EQ(x.extended_mixture.weight_bins->term.covariate, core::Covariate::TimeSincePowerOn);
+  EXPECT_EQ(x.extended_mixture.weight_bins->term.knots, weights.knots);
+  EXPECT_EQ(x.extended_mixture.weight_bins->table, e.extended_mixture.weight_bins->table);
+  EXPECT_EQ(x.extended_mixture.variance_bins->term.knots, spread.knots);
+  EXPECT_EQ(x.extended_mixture.variance_bins->table, e.extended_mixture.variance_bins->table);
+  EXPECT_EQ(x.extended_mixture.outlier_weight, e.extended_mixture.outlier_weight);
+  EXPECT_DOUBLE_EQ(x.extended_mixture.outlier_density, e.extended_mixture.outlier_density);
+  EXPECT_EQ(x.extended_mixture.modes.mean, c.model.mixture.mean);
+  // The same file again, byte for byte.
+  write_calibration_file(temp_file("extended2.yaml"), back);
+  EXPECT_EQ(read_all(file), read_all(temp_file("extended2.yaml")));
 
   core::ModelExtension chain;
-  chain.effect = core::EffectKind::ModePersistence;
+  chain.effects = {{core::Parameter::Markov, core::Covariate::None}};
   chain.extended_mixture = core::without_extensions(c.model.mixture);
   chain.extended_mixture.transition = (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
   c.extension = chain;
   write_calibration_file(file, c);
   EXPECT_EQ(read_calibration_file(file).extension->extended_mixture.transition,
             chain.extended_mixture.transition);
-
-  core::ModelExtension warm_up;
-  warm_up.effect = core::EffectKind::WarmUp;
-  warm_up.covariate = core::Covariate::WarmUp;
-  warm_up.covariate_mm = 2.875;
-  warm_up.time_constant_s = 1000.0 / 3.0;
-  warm_up.extended_mixture = core::without_extensions(c.model.mixture);
-  c.extension = warm_up;
-  write_calibration_file(file, c);
-  const core::Calibration warm = read_calibration_file(file);
-  EXPECT_EQ(warm.extension->effect, core::EffectKind::WarmUp);
-  EXPECT_EQ(warm.extension->covariate, core::Covariate::WarmUp);
-  EXPECT_EQ(warm.extension->covariate_mm, warm_up.covariate_mm);
-  EXPECT_EQ(warm.extension->time_constant_s, warm_up.time_constant_s);
   // A file without the section is the paper's model.
   EXPECT_FALSE(read_calibration_file([&] {
                  write_calibration_file(file, example());
@@ -214,37 +242,78 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
                    .extension.has_value());
 }
 
+// A version 1 file's one-effect extension loads as the same model in the grammar's terms: its
+// covariate in its raw units (hours, °C/min, exp(−t_on/τ)), its bins on the junction temperature.
+TEST(CalibrationFile, VersionOneExtensionsStillLoad) {
+  const std::string plain = replaced(calibration_to_yaml(example()), "version: 2", "version: 1");
+  const std::string file = temp_file("version1.yaml");
+  std::ofstream(file) << plain +
+                             "extension:\n  effect: warm_up_after_power_on\n  covariate: warm_up\n"
+                             "  covariate_mm: 2.5\n  time_constant_s: 300\n";
+  core::Calibration c = read_calibration_file(file);
+  ASSERT_TRUE(c.extension.has_value());
+  ASSERT_EQ(c.extension->mean_terms.size(), 1u);
+  EXPECT_EQ(c.extension->mean_terms[0].term.describe(),
+            "bias x time_since_power_on (decay, tau = 300 s)");
+  EXPECT_EQ(c.extension->mean_terms[0].coefficients[0], 2.5);
+  core::CovariatesAt at;
+  at.time_since_power_on_s = 300.0;
+  EXPECT_NEAR(c.extension->bias_at(at), 2.5 / std::exp(1.0), 1e-12);
+  EXPECT_EQ(c.extension->name(), "warm-up after power-on");
+
+  std::ofstream(file) << plain +
+                             "extension:\n  effect: temperature_dependent_spread\n"
+                             "  covariate: time_h\n  covariate_mm: 0.5\n"
+                             "  bin_edges_c: [25, 27]\n"
+                             "  bin_variances_mm2: [[1, 2], [3, 4], [5, 6]]\n";
+  c = read_calibration_file(file);
+  at.time_h = 4.0;
+  EXPECT_NEAR(c.extension->bias_at(at), 2.0, 1e-12);  // 0.5 mm/h × 4 h
+  at.junction_c = 26.0;
+  EXPECT_EQ(c.extension->state_at(at), 1);
+  EXPECT_EQ(c.extension->extended_mixture.variance(1, 1), 4.0);
+  EXPECT_EQ(c.extension->name(), "temperature-dependent spread");
+  // Version 1 keys are not version 2's.
+  std::ofstream(file) << replaced(plain, "version: 1", "version: 2") +
+                             "extension:\n  effect: outliers\n";
+  EXPECT_THROW(read_calibration_file(file), YamlSchemaError);
+}
+
 TEST(CalibrationFile, ExtensionErrorsNameTheKey) {
   core::Calibration c = example();
-  core::ModelExtension chain;
-  chain.effect = core::EffectKind::ModePersistence;
-  chain.extended_mixture = core::without_extensions(c.model.mixture);
-  chain.extended_mixture.transition = (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
-  c.extension = chain;
+  c.extension = core::ModelExtension{};
+  core::Term decay =
+      term(core::Parameter::Bias, core::Covariate::TimeSincePowerOn, core::Form::Decay);
+  decay.time_constant_s = 240.0;
+  c.extension->effects = {decay.label(), {core::Parameter::Markov, core::Covariate::None}};
+  c.extension->mean_terms = {{decay, Eigen::VectorXd::Constant(1, 1.5)}};
+  c.extension->extended_mixture = core::without_extensions(c.model.mixture);
+  c.extension->extended_mixture.transition =
+      (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
   const std::string good = calibration_to_yaml(c);
-  EXPECT_NE(error_of(replaced(good, "effect: mode_persistence", "effect: gremlins"))
-                .find("extension.effect 'gremlins' is not an effect"),
-            std::string::npos)
-      << error_of(replaced(good, "effect: mode_persistence", "effect: gremlins"));
+  const std::string bad_parameter = error_of(replaced(good, "parameter: markov", "parameter: gremlins"));
+  EXPECT_NE(bad_parameter.find("'gremlins' is not a parameter of Eq. 8"), std::string::npos)
+      << bad_parameter;
+  EXPECT_NE(bad_parameter.find("extension.effects[1]"), std::string::npos) << bad_parameter;
   EXPECT_NE(error_of(replaced(good, "[0.875, 0.125]", "[0.875, 0.5]")).find("transition"),
             std::string::npos);
   EXPECT_NE(error_of(replaced(good, "[0.875, 0.125]", "[0.875]"))
                 .find("extension.transition[1] must be a list of numbers as long as the first row"),
             std::string::npos)
       << error_of(replaced(good, "[0.875, 0.125]", "[0.875]"));
-  EXPECT_NE(error_of(replaced(good, "covariate: none", "covariate: moon_phase")).find("covariate"),
-            std::string::npos);
-  EXPECT_NE(error_of(replaced(good, "covariate_mm", "covariate_inch")).find("covariate_inch"),
-            std::string::npos);
-  // The warm-up's time constant: required with it, refused without it.
-  EXPECT_NE(error_of(replaced(good, "covariate: none", "covariate: warm_up"))
-                .find("extension.time_constant_s"),
+  EXPECT_NE(error_of(replaced(good, "covariate: time_since_power_on\n      form",
+                              "covariate: moon_phase\n      form"))
+                .find("'moon_phase' is not a covariate"),
             std::string::npos)
-      << error_of(replaced(good, "covariate: none", "covariate: warm_up"));
-  EXPECT_NE(error_of(replaced(good, "covariate: none", "covariate: none\n  time_constant_s: 60"))
-                .find("time_constant_s belongs to the warm_up covariate only"),
+      << error_of(replaced(good, "covariate: time_since_power_on\n      form",
+                           "covariate: moon_phase\n      form"));
+  EXPECT_NE(error_of(replaced(good, "coefficients_mm", "coefficients_inch")).find("coefficients_inch"),
+            std::string::npos);
+  // A decay needs its time constant.
+  EXPECT_NE(error_of(replaced(good, "      time_constant_s: 240\n", ""))
+                .find("needs a positive time constant"),
             std::string::npos)
-      << error_of(replaced(good, "covariate: none", "covariate: none\n  time_constant_s: 60"));
+      << error_of(replaced(good, "      time_constant_s: 240\n", ""));
 }
 
 TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {

@@ -7,19 +7,15 @@
 #include <cmath>
 
 #include "tests/realtime/realtime_examples.hpp"
+#include "tests/support/extensions.hpp"
 
 namespace tofcomp::realtime {
 namespace {
 
 std::shared_ptr<core::Calibration> warm_up_calibration(double gamma_mm, double tau_s) {
   auto c = std::make_shared<core::Calibration>(testing::round_calibration());
-  core::ModelExtension x;
-  x.effect = core::EffectKind::WarmUp;
-  x.covariate = core::Covariate::WarmUp;
-  x.covariate_mm = gamma_mm;
-  x.time_constant_s = tau_s;
-  x.extended_mixture = core::without_extensions(c->model.mixture);
-  c->extension = x;
+  c->extension = testing::bias_extension(c->model.mixture, core::Covariate::TimeSincePowerOn,
+                                         core::Form::Decay, gamma_mm, tau_s);
   return c;
 }
 

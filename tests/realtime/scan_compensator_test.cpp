@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "tests/realtime/realtime_examples.hpp"
+#include "tests/support/extensions.hpp"
 
 namespace tofcomp::realtime {
 namespace {
@@ -176,18 +177,20 @@ TEST(ScanCompensator, RefusesWhatItCannotUse) {
   EXPECT_THROW(compensator.compensate(scan, junction_at(26.0), 0), core::InvalidInput);
 }
 
-// A calibration's extension, by hand: the covariate's bias γ·c is removed with the paper's
-// bias (time drift: hours of the pipeline's clock; heating hysteresis: the junction estimate's
-// rate), and a range the outlier component takes is flagged without moving the window.
+// A calibration's extension, by hand: the bias term is removed with the paper's bias (time
+// drift: hours of the pipeline's clock; heating hysteresis: the junction estimate's rate;
+// warm-up: exp(−t_on/τ); a mode's offset moving with the junction temperature), and a range the
+// outlier component takes is flagged without moving the window.
 TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
-  const auto with_extension = [](core::EffectKind effect, core::Covariate covariate, double gamma) {
+  const auto with_bias = [](core::Covariate covariate, core::Form form, double gamma,
+                            double tau = 0.0) {
     auto c = std::make_shared<core::Calibration>(testing::round_calibration());
-    core::ModelExtension x;
-    x.effect = effect;
-    x.covariate = covariate;
-    x.covariate_mm = gamma;
-    x.extended_mixture = core::without_extensions(c->model.mixture);
-    c->extension = x;
+    c->extension = testing::bias_extension(c->model.mixture, covariate, form, gamma, tau);
+    return c;
+  };
+  const auto with_structure = [](core::Parameter structure) {
+    auto c = std::make_shared<core::Calibration>(testing::round_calibration());
+    c->extension = testing::structure_extension(c->model.mixture, structure);
     return c;
   };
   // 26 °C: the paper's bias is 13 mm. The first range of a window is given mode 0 (its residual
@@ -197,8 +200,7 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
   scan.no_echo = {0};
   {
     ScanCompensator compensator(incremental());
-    compensator.set_calibration(
-        with_extension(core::EffectKind::TimeDrift, core::Covariate::TimeHours, 4.0), 1);
+    compensator.set_calibration(with_bias(core::Covariate::Time, core::Form::Linear, 4.0), 1);
     scan.time_s = 9000.0;                    // 2.5 h: γ·c = 10 mm
     scan.ranges_mm = {3000.0 + 23.0 - 2.0};  // d + bias + μ_0
     const ipc::CompensatedScan out = compensator.compensate(scan, junction_at(26.0), 0);
@@ -207,8 +209,7 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
   }
   {
     ScanCompensator compensator(incremental());
-    compensator.set_calibration(with_extension(core::EffectKind::HeatingHysteresis,
-                                               core::Covariate::HeatingRateCPerMinute, 2.0),
+    compensator.set_calibration(with_bias(core::Covariate::HeatingRate, core::Form::Linear, 2.0),
                                 1);
     JunctionEstimate heating = junction_at(26.0);
     heating.heating_rate_c_per_min = 1.5;  // γ·c = 3 mm
@@ -217,8 +218,7 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
     EXPECT_DOUBLE_EQ(out.beams[0].compensated_mm, 3000.0);
   }
   {
-    auto c = with_extension(core::EffectKind::WarmUp, core::Covariate::WarmUp, 3.0);
-    c->extension->time_constant_s = 200.0;
+    auto c = with_bias(core::Covariate::TimeSincePowerOn, core::Form::Decay, 3.0, 200.0);
     ScanCompensator compensator(incremental());
     compensator.set_calibration(c, 1);
     JunctionEstimate warming = junction_at(26.0);
@@ -228,7 +228,25 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
     EXPECT_NEAR(out.beams[0].compensated_mm, 3000.0, 1e-9);
   }
   {
-    auto c = with_extension(core::EffectKind::Outliers, core::Covariate::None, 0.0);
+    // Mode 1's offset 0.5 mm higher per °C above 25 °C: at 26 °C mode 1 sits at −2 + 0.5.
+    auto c = std::make_shared<core::Calibration>(testing::round_calibration());
+    core::ModelExtension x = testing::structure_extension(c->model.mixture, core::Parameter::ModeOffset);
+    core::Term t = testing::raw_bias_term(core::Covariate::JunctionTemperature, core::Form::Linear);
+    t.parameter = core::Parameter::ModeOffset;
+    t.mode = 0;
+    t.centre = 25.0;
+    x.effects = {t.label()};
+    x.mean_terms.push_back({t, Eigen::VectorXd::Constant(1, 0.5)});
+    c->extension = x;
+    ScanCompensator compensator(incremental());
+    compensator.set_calibration(c, 1);
+    scan.ranges_mm = {3000.0 + 13.0 - 2.0 + 0.5};
+    const ipc::CompensatedScan out = compensator.compensate(scan, junction_at(26.0), 0);
+    EXPECT_EQ(out.beams[0].most_probable_mode, 0);
+    EXPECT_NEAR(out.beams[0].compensated_mm, 3000.0, 1e-9);
+  }
+  {
+    auto c = with_structure(core::Parameter::Outliers);
     c->extension->extended_mixture.outlier_weight = 0.02;
     c->extension->extended_mixture.outlier_density = 1.0 / 200.0;
     ScanCompensator compensator(incremental());
@@ -252,7 +270,7 @@ TEST(ScanCompensator, AppliesTheCalibrationsExtension) {
   }
   // An invalid extension is refused and the old calibration stays.
   ScanCompensator compensator(incremental());
-  auto bad = with_extension(core::EffectKind::ModePersistence, core::Covariate::None, 0.0);
+  auto bad = with_structure(core::Parameter::Markov);
   bad->extension->extended_mixture.transition = Eigen::MatrixXd::Constant(2, 2, 0.7);
   EXPECT_THROW(compensator.set_calibration(bad, 1), core::InvalidInput);
   EXPECT_EQ(compensator.calibration(), nullptr);

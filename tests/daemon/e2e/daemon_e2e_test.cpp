@@ -20,6 +20,7 @@
 #include "settings/pipeline_setup.hpp"
 #include "tests/daemon/e2e/daemon_process.hpp"
 #include "tests/daemon/e2e/e2e_config.hpp"
+#include "tests/support/extensions.hpp"
 
 namespace tofcomp::test {
 namespace {
@@ -284,9 +285,8 @@ TEST(DaemonEndToEnd, CompensatesWithACalibrationsExtension) {
   TemporaryDirectory dir;
   const std::string root = TOFCOMP_SOURCE_ROOT;
   core::Calibration extended = io::read_calibration_file(root + "/config/calibration.yaml");
-  core::ModelExtension extension;
-  extension.effect = core::EffectKind::Outliers;
-  extension.extended_mixture = core::without_extensions(extended.model.mixture);
+  core::ModelExtension extension =
+      tofcomp::testing::structure_extension(extended.model.mixture, core::Parameter::Outliers);
   extension.extended_mixture.outlier_weight = 0.02;
   extension.extended_mixture.outlier_density = 1.0 / 200.0;
   extended.extension = extension;

@@ -1,0 +1,554 @@
+#include "calibration/model_search.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <boost/math/distributions/students_t.hpp>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <thread>
+
+#include "calibration/covariates.hpp"
+#include "calibration/model_spec.hpp"
+#include "core/cramer_rao.hpp"
+#include "core/error.hpp"
+#include "core/estimators.hpp"
+
+namespace tofcomp::calibration {
+namespace {
+
+// Each fold gets at least this many blocks.
+constexpr Eigen::Index kMinimumBlocksPerFold = 10;
+// The gains are summed over runs of this many consecutive ranges for their t statistic: long
+// enough to hold the serial dependence a slightly wrong model leaves within a few seconds of
+// ranging, short enough for the many samples an effect concentrated in a few places needs.
+constexpr Eigen::Index kStatisticRun = 100;
+constexpr int kFolds = 2;
+constexpr unsigned kFoldSeed = 20151211;
+// EM of a candidate: stop when the log-likelihood moves less than this per range (a hundredth
+// of a nat over 10^5 ranges), or after this many iterations.
+constexpr double kFitTolerancePerRange = 1e-7;
+constexpr int kFitIterations = 150;
+// A time constant's profile: this many EM iterations at each τ, then this many golden-section
+// steps between the best grid point's neighbours.
+constexpr int kProfileIterations = 4;
+constexpr int kGoldenSteps = 6;
+// One more mode and the outlier component: every start gets this many iterations, the best
+// one the rest.
+constexpr int kStartIterations = 15;
+// The outlier component's two starts (model_spec.hpp): the held modes, the trimmed residuals'.
+constexpr int kOutlierStarts = 2;
+
+// A model on one fold: its spec (a term's τ may differ between folds) and its fit on the fold's
+// training ranges.
+struct FoldModel {
+  ModelSpec spec;
+  core::ExtendedParameters fit;
+};
+
+// Blocks alternating between two folds. A fold's model scores the other fold's ranges whose
+// junction temperature lies inside those it was trained on: beyond them compensation does not
+// trust the basis (it continues the bias along its tangent, core/measurement_model.hpp), and a
+// polynomial continued there would make every candidate that soaks up its error look good.
+struct Folds {
+  Eigen::Index block = 0;
+  std::vector<int> block_of;                           // per range
+  std::array<std::vector<Eigen::Index>, kFolds> rows;  // each fold's ranges
+  std::array<std::vector<Eigen::Index>, kFolds> scored;  // what each fold's model scores
+  std::vector<bool> is_scored;                         // per range
+  std::vector<int> fold_of_block;
+  int blocks = 0;
+  const std::vector<Eigen::Index>& training(int f) const { return rows[static_cast<std::size_t>(f)]; }
+  const std::vector<Eigen::Index>& held_out(int f) const {
+    return scored[static_cast<std::size_t>(f)];
+  }
+};
+
+Folds make_folds(const Eigen::VectorXd& junction_c, const std::vector<Eigen::Index>& windows) {
+  const Eigen::Index ranges = junction_c.size();
+  const Eigen::Index longest =
+      windows.empty() ? 0 : *std::max_element(windows.begin(), windows.end());
+  const Eigen::Index most = ranges / (kFolds * kMinimumBlocksPerFold);
+  if (most < 1) {
+    throw core::InvalidInput(fmt::format(
+        "the model search needs at least {} ranges ({} folds of {} blocks); the data have {}",
+        kFolds * kMinimumBlocksPerFold, kFolds, kMinimumBlocksPerFold, ranges));
+  }
+  Folds f;
+  f.block = std::max<Eigen::Index>(1, std::min(longest, most));
+  f.block_of.resize(static_cast<std::size_t>(ranges));
+  f.blocks = static_cast<int>((ranges + f.block - 1) / f.block);
+  // Blocks go to the folds in a shuffled order (a fixed seed: the same data, the same folds),
+  // half to each: alternating them would alias with a power schedule whose cycles hold an even
+  // number of blocks and give one fold only the cycles' hot halves.
+  std::vector<int> fold_of_block(static_cast<std::size_t>(f.blocks));
+  for (int b = 0; b < f.blocks; ++b) fold_of_block[static_cast<std::size_t>(b)] = b % kFolds;
+  std::mt19937 shuffle(kFoldSeed);
+  std::shuffle(fold_of_block.begin(), fold_of_block.end(), shuffle);
+  for (Eigen::Index k = 0; k < ranges; ++k) {
+    const auto b = static_cast<int>(k / f.block);
+    f.block_of[static_cast<std::size_t>(k)] = b;
+    f.rows[static_cast<std::size_t>(fold_of_block[static_cast<std::size_t>(b)])].push_back(k);
+  }
+  f.fold_of_block = std::move(fold_of_block);
+  f.is_scored.assign(static_cast<std::size_t>(ranges), false);
+  for (int fold = 0; fold < kFolds; ++fold) {
+    const auto& trained = f.rows[static_cast<std::size_t>(fold)];
+    const Eigen::VectorXd t = junction_c(trained);
+    const double lo = t.minCoeff(), hi = t.maxCoeff();
+    for (const Eigen::Index k : f.rows[static_cast<std::size_t>(1 - fold)]) {
+      if (junction_c[k] >= lo && junction_c[k] <= hi) {
+        f.scored[static_cast<std::size_t>(fold)].push_back(k);
+        f.is_scored[static_cast<std::size_t>(k)] = true;
+      }
+    }
+  }
+  return f;
+}
+
+core::ExtendedEmOptions em_options(double variance_floor, int iterations) {
+  core::ExtendedEmOptions o;
+  o.log_likelihood_tolerance = kFitTolerancePerRange;
+  o.max_iterations = iterations;
+  o.variance_floor = variance_floor;
+  return o;
+}
+
+struct Fitted {
+  FoldModel model;
+  double log_likelihood = 0.0;
+};
+
+// Fits spec + term on `rows` from the held model's fit there: τ profiled, several starts where
+// the term has them.
+class TermFitter {
+ public:
+  TermFitter(const SearchData& data, double variance_floor)
+      : data_(data), floor_(variance_floor) {}
+
+  // rows: the ranges to fit on (all when empty).
+  Fitted fit(const FoldModel& held, const core::Term& candidate,
+             const std::vector<Eigen::Index>& rows_or_all) const {
+    std::vector<Eigen::Index> rows = rows_or_all;
+    if (rows.empty()) {
+      rows.resize(static_cast<std::size_t>(data_.size()));
+      for (Eigen::Index k = 0; k < data_.size(); ++k) rows[static_cast<std::size_t>(k)] = k;
+    }
+    core::Term term = candidate;
+    if (term.needs_time_constant()) term = profile_time_constant(held, candidate, rows);
+    int starts = 1;
+    if (term.parameter == core::Parameter::ExtraMode) starts = held.fit.model.modes.modes();
+    if (term.parameter == core::Parameter::Outliers) starts = kOutlierStarts;
+    std::optional<Fitted> best;
+    for (int s = 0; s < starts; ++s) {
+      Fitted f = run(held, term, rows, s, starts > 1 ? kStartIterations : kFitIterations);
+      if (!best || f.log_likelihood > best->log_likelihood) best = std::move(f);
+    }
+    if (starts > 1) {
+      core::ExtendedDesign design =
+          design_of(best->model.spec, data_, best->model.fit.model.modes.modes(), rows);
+      const core::ExtendedEmResult em = core::train_extended_em(
+          design, data_.y()(rows), best->model.fit, em_options(floor_, kFitIterations));
+      best->model.fit = em.fit;
+      best->log_likelihood = em.log_likelihood;
+    }
+    return std::move(*best);
+  }
+
+ private:
+  Fitted run(const FoldModel& held, const core::Term& term, const std::vector<Eigen::Index>& rows,
+             int start, int iterations) const {
+    Extended ext = with_term(held.spec, held.fit, term, data_, rows, start);
+    const core::ExtendedDesign design =
+        design_of(ext.spec, data_, ext.start.model.modes.modes(), rows);
+    const core::ExtendedEmResult em = core::train_extended_em(
+        design, data_.y()(rows), ext.start, em_options(floor_, iterations));
+    return {FoldModel{std::move(ext.spec), em.fit}, em.log_likelihood};
+  }
+
+  core::Term at_time_constant(const core::Term& t, double tau) const {
+    return data_.covariates().make_term(t.parameter, t.covariate, t.form, t.mode, tau);
+  }
+
+  double short_fit(const FoldModel& held, const core::Term& t,
+                   const std::vector<Eigen::Index>& rows) const {
+    try {
+      return run(held, t, rows, 0, kProfileIterations).log_likelihood;
+    } catch (const core::Error&) {
+      return -std::numeric_limits<double>::infinity();
+    }
+  }
+
+  // The grid, then a golden-section search in log τ between the best point's neighbours.
+  core::Term profile_time_constant(const FoldModel& held, const core::Term& t,
+                                   const std::vector<Eigen::Index>& rows) const {
+    const auto& grid = core::kTimeConstantGridS;
+    std::size_t best = 0;
+    double best_value = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      const double v = short_fit(held, at_time_constant(t, grid[i]), rows);
+      if (v > best_value) best_value = v, best = i;
+    }
+    double lo = std::log(grid[best == 0 ? 0 : best - 1]);
+    double hi = std::log(grid[std::min(best + 1, grid.size() - 1)]);
+    const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
+    double a = hi - ratio * (hi - lo), b = lo + ratio * (hi - lo);
+    const auto value = [&](double log_tau) {
+      return short_fit(held, at_time_constant(t, std::exp(log_tau)), rows);
+    };
+    double fa = value(a), fb = value(b);
+    double best_tau = grid[best];
+    for (int step = 0; step < kGoldenSteps; ++step) {
+      if (fa >= fb) {
+        hi = b, b = a, fb = fa;
+        a = hi - ratio * (hi - lo);
+        fa = value(a);
+      } else {
+        lo = a, a = b, fa = fb;
+        b = lo + ratio * (hi - lo);
+        fb = value(b);
+      }
+    }
+    const double refined = fa >= fb ? std::exp(a) : std::exp(b);
+    if (std::max(fa, fb) > best_value) best_tau = refined;
+    return at_time_constant(t, best_tau);
+  }
+
+  const SearchData& data_;
+  double floor_;
+};
+
+// The term a spec holds for the candidate it was given (its τ as profiled, its mode).
+core::Term last_added(const ModelSpec& spec, const core::Term& candidate) {
+  switch (candidate.parameter) {
+    case core::Parameter::Bias:
+      return spec.bias_terms.back();
+    case core::Parameter::ModeOffset:
+      return spec.offset_terms.back();
+    case core::Parameter::Weights:
+      return *spec.weight_term;
+    case core::Parameter::Spread:
+      return *spec.variance_term;
+    default:
+      return candidate;
+  }
+}
+
+// log p of each held-out range under a fold's model (rounded values), written at their places.
+void score_held_out(const SearchData& data, const FoldModel& model,
+                    const std::vector<Eigen::Index>& held_out, double resolution,
+                    Eigen::VectorXd& scores) {
+  const core::ExtendedDesign design =
+      design_of(model.spec, data, model.fit.model.modes.modes(), held_out);
+  const Eigen::VectorXd residual = data.y()(held_out) - design.shared * model.fit.theta;
+  const Eigen::VectorXd s =
+      core::extended_log_scores(residual, design.state,
+                                core::mode_shifts(design, model.fit.mode_coefficients),
+                                model.fit.model, resolution);
+  scores(held_out) = s;
+}
+
+struct BlockTest {
+  double gain = 0.0;
+  double t = 0.0;
+  double p = 1.0;
+};
+
+// The gains summed over runs of consecutive scored ranges, and Student's t of their mean.
+BlockTest block_test(const Eigen::VectorXd& gain, const Folds& folds) {
+  const Eigen::Index run = std::min(kStatisticRun, folds.block);
+  std::vector<double> runs;
+  Eigen::Index in_run = 0;
+  for (Eigen::Index k = 0; k < gain.size(); ++k) {
+    if (!folds.is_scored[static_cast<std::size_t>(k)]) continue;
+    if (in_run == 0) runs.push_back(0.0);
+    runs.back() += gain[k];
+    in_run = (in_run + 1) % run;
+  }
+  const Eigen::Map<const Eigen::VectorXd> per_block(runs.data(),
+                                                    static_cast<Eigen::Index>(runs.size()));
+  if (per_block.size() < 2) return {};
+  BlockTest out;
+  out.gain = per_block.sum();
+  const double n = static_cast<double>(per_block.size());
+  const double mean = out.gain / n;
+  const double variance = (per_block.array() - mean).square().sum() / (n - 1.0);
+  if (!(variance > 0.0)) {
+    out.t = mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
+    out.p = mean > 0.0 ? 0.0 : 1.0;
+    return out;
+  }
+  out.t = mean / std::sqrt(variance / n);
+  const boost::math::students_t student(n - 1.0);
+  out.p = boost::math::cdf(boost::math::complement(student, out.t));
+  return out;
+}
+
+// d̂'s absolute errors on the windows inside the held-out blocks of one fold's model.
+void held_out_window_errors(const SearchData& data, const FoldModel& model, const Folds& folds,
+                            int fold, Eigen::Index window, Eigen::Index stride,
+                            std::vector<double>& errors) {
+  const core::ExtendedDesign design =
+      design_of(model.spec, data, model.fit.model.modes.modes(), {});
+  const Eigen::VectorXd bias = design.shared * model.fit.theta;
+  const Eigen::MatrixXd shift = core::mode_shifts(design, model.fit.mode_coefficients);
+  for (int b = 0; b < folds.blocks; ++b) {
+    if (folds.fold_of_block[static_cast<std::size_t>(b)] == fold) continue;  // trained on it
+    const Eigen::Index first = b * folds.block;
+    const Eigen::Index length = std::min(folds.block, data.size() - first);
+    if (length < window) continue;
+    // Only a block the fold's model scores whole: its temperatures inside those it trained on.
+    bool whole = true;
+    for (Eigen::Index k = first; k < first + length; ++k) {
+      whole = whole && folds.is_scored[static_cast<std::size_t>(k)];
+    }
+    if (!whole) continue;
+    const core::WindowEstimates e = core::estimate_windows(
+        data.y().segment(first, length), bias.segment(first, length),
+        design.state.segment(first, length),
+        shift.size() > 0 ? Eigen::MatrixXd(shift.middleRows(first, length)) : Eigen::MatrixXd(0, 0),
+        model.fit.model, window, stride);
+    for (Eigen::Index i = 0; i < e.em_distance.size(); ++i) {
+      errors.push_back(std::abs(e.em_distance[i]));  // y − d: the truth is zero
+    }
+  }
+}
+
+std::vector<HeldOutError> compare_held_out(const SearchData& data,
+                                           const std::array<FoldModel, kFolds>& before,
+                                           const std::array<FoldModel, kFolds>& after,
+                                           const Folds& folds, const ModelSearchOptions& options,
+                                           double range_information) {
+  std::vector<HeldOutError> out;
+  for (const Eigen::Index w : options.windows) {
+    if (w > folds.block) continue;
+    std::vector<double> e_before, e_after;
+    for (int f = 0; f < kFolds; ++f) {
+      held_out_window_errors(data, before[static_cast<std::size_t>(f)], folds, f, w,
+                             options.stride, e_before);
+      held_out_window_errors(data, after[static_cast<std::size_t>(f)], folds, f, w,
+                             options.stride, e_after);
+    }
+    if (e_before.empty()) continue;
+    const auto mean = [](const std::vector<double>& v) {
+      double s = 0.0;
+      for (const double x : v) s += x;
+      return s / static_cast<double>(v.size());
+    };
+    out.push_back({w, static_cast<Eigen::Index>(e_before.size()), mean(e_before), mean(e_after),
+                   core::cramer_rao_mae_mm(range_information, w)});
+  }
+  return out;
+}
+
+// Runs task(i) for i in [0, n) on `threads` threads; the first exception is rethrown.
+template <typename Task>
+void parallel_for(int n, int threads, const Task& task) {
+  std::atomic<int> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  const auto worker = [&] {
+    for (int i = next++; i < n; i = next++) {
+      try {
+        task(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+int thread_count(int requested) {
+  if (requested > 0) return requested;
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+}  // namespace
+
+std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariates, int modes) {
+  using core::Covariate;
+  using core::Form;
+  using core::Parameter;
+  std::vector<core::Term> out;
+  const double tau = core::kTimeConstantGridS[core::kTimeConstantGridS.size() / 2];
+  const auto add = [&](Parameter p, Covariate c, Form f, int mode) {
+    if (c != Covariate::None && !covariates.available(c)) return;
+    try {
+      out.push_back(covariates.make_term(p, c, f, mode, tau));
+    } catch (const core::InvalidInput&) {
+      // A covariate these data hold constant (one power-on, no ambient change): no candidate.
+    }
+  };
+  for (const Covariate c : {Covariate::Time, Covariate::HeatingRate, Covariate::Ambient}) {
+    add(Parameter::Bias, c, Form::Linear, -1);
+    add(Parameter::Bias, c, Form::Smooth, -1);
+  }
+  add(Parameter::Bias, Covariate::TimeSincePowerOn, Form::Decay, -1);
+  add(Parameter::Bias, Covariate::TimeSincePowerOn, Form::Smooth, -1);
+  add(Parameter::Bias, Covariate::JunctionLag, Form::Linear, -1);
+  for (int i = 0; i < modes; ++i) {
+    for (const Covariate c : {Covariate::JunctionTemperature, Covariate::HeatingRate,
+                              Covariate::Time, Covariate::Ambient}) {
+      add(Parameter::ModeOffset, c, Form::Linear, i);
+    }
+    add(Parameter::ModeOffset, Covariate::TimeSincePowerOn, Form::Decay, i);
+  }
+  for (const Parameter p : {Parameter::Spread, Parameter::Weights}) {
+    for (const Covariate c : {Covariate::JunctionTemperature, Covariate::HeatingRate,
+                              Covariate::TimeSincePowerOn, Covariate::Time, Covariate::Ambient}) {
+      add(p, c, Form::Bins, -1);
+    }
+  }
+  for (const Parameter p : {Parameter::Markov, Parameter::ExtraMode, Parameter::Outliers}) {
+    add(p, Covariate::None, Form::None, -1);
+  }
+  return out;
+}
+
+ModelSearchResult search_model(const MeasuredData& data, const core::Calibration& base,
+                               const SmoothedJunction& junction,
+                               const ModelSearchOptions& options,
+                               const ModelSearchProgress& progress) {
+  data.require_true_ranges();
+  core::Calibration calibration = base;
+  calibration.extension.reset();
+  const SearchData search_data(data.range_mm - data.true_range_mm,
+                               calibration.model.basis.design_matrix(junction.junction_c),
+                               covariate_table(data, junction));
+  const Folds folds = make_folds(junction.junction_c, options.windows);
+  const double floor = options.resolution * options.resolution / 12.0;
+  const TermFitter fitter(search_data, floor);
+  const int threads = thread_count(options.threads);
+  const double range_information =
+      core::range_fisher_information(calibration.model.mixture, options.resolution);
+  std::mutex progress_mutex;
+  const auto report = [&](double share, const std::string& stage) {
+    if (!progress) return;
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    progress(share, stage);
+  };
+
+  ModelSearchResult result;
+  result.block = folds.block;
+  result.blocks = folds.blocks;
+
+  // The training's model on each fold, from its fit on all the data.
+  core::ExtendedParameters base_fit{
+      Eigen::VectorXd(),
+      std::vector<Eigen::VectorXd>(static_cast<std::size_t>(calibration.model.mixture.modes())),
+      core::without_extensions(calibration.model.mixture)};
+  search_data.to_orthogonal(calibration.model.theta, base_fit.theta, base_fit.model.modes.mean);
+  std::array<FoldModel, kFolds> held;
+  Eigen::VectorXd held_scores = Eigen::VectorXd::Zero(search_data.size());
+  for (int f = 0; f < kFolds; ++f) {
+    const auto& rows = folds.training(f);
+    const core::ExtendedDesign design =
+        design_of(ModelSpec{}, search_data, calibration.model.mixture.modes(), rows);
+    held[static_cast<std::size_t>(f)] = {
+        ModelSpec{}, core::train_extended_em(design, search_data.y()(rows), base_fit,
+                                             em_options(floor, kFitIterations))
+                         .fit};
+    score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
+                   options.resolution, held_scores);
+  }
+  const std::array<FoldModel, kFolds> training_model = held;
+
+  for (int step = 0; step < options.max_steps; ++step) {
+    const int modes = held[0].fit.model.modes.modes();
+    std::vector<core::Term> candidates;
+    for (const core::Term& t : grammar_candidates(search_data.covariates(), modes)) {
+      if (held[0].spec.accepts(t)) candidates.push_back(t);
+    }
+    if (candidates.empty()) break;
+    SearchStep s;
+    s.candidates.resize(candidates.size());
+    std::vector<std::array<FoldModel, kFolds>> fits(candidates.size());
+    std::atomic<int> done{0};
+    const double step_share = 1.0 / options.max_steps;
+    parallel_for(static_cast<int>(candidates.size()), threads, [&](int i) {
+      const auto c = static_cast<std::size_t>(i);
+      CandidateResult& r = s.candidates[c];
+      r.term = candidates[c];
+      try {
+        Eigen::VectorXd scores = Eigen::VectorXd::Zero(search_data.size());
+        for (int f = 0; f < kFolds; ++f) {
+          Fitted fitted = fitter.fit(held[static_cast<std::size_t>(f)], candidates[c],
+                                     folds.training(f));
+          if (f == 0) r.term = last_added(fitted.model.spec, candidates[c]);
+          score_held_out(search_data, fitted.model, folds.held_out(f), options.resolution,
+                         scores);
+          fits[c][static_cast<std::size_t>(f)] = std::move(fitted.model);
+        }
+        const BlockTest test = block_test(scores - held_scores, folds);
+        r.held_out_gain = test.gain;
+        r.gain_per_range = test.gain / static_cast<double>(search_data.size());
+        r.t_statistic = test.t;
+        r.p_value = test.p;
+      } catch (const core::Error& e) {
+        r.error = e.what();
+      }
+      report(step_share * (step + static_cast<double>(++done) / candidates.size()),
+             fmt::format("step {}: {}", step + 1, r.term.describe()));
+    });
+    // Rank: the fitted ones by held-out gain, the failed ones last.
+    std::vector<std::size_t> order(candidates.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      const CandidateResult &x = s.candidates[a], &y = s.candidates[b];
+      if (x.ok() != y.ok()) return x.ok();
+      return x.held_out_gain > y.held_out_gain;
+    });
+    std::vector<CandidateResult> ranked;
+    for (const std::size_t i : order) ranked.push_back(s.candidates[i]);
+    s.candidates = std::move(ranked);
+    const auto fitted_count = std::count_if(s.candidates.begin(), s.candidates.end(),
+                                            [](const CandidateResult& r) { return r.ok(); });
+    result.candidates_per_step = std::max(result.candidates_per_step, static_cast<int>(fitted_count));
+    s.critical_p = options.alpha / static_cast<double>(std::max<std::ptrdiff_t>(fitted_count, 1));
+    const CandidateResult* named = s.named();
+    if (named) {
+      const std::array<FoldModel, kFolds>& best = fits[order.front()];
+      s.errors = compare_held_out(search_data, held, best, folds, options, range_information);
+      s.kept = named->held_out_gain > 0.0 && named->p_value <= s.critical_p;
+      if (s.kept) {
+        held = best;
+        for (int f = 0; f < kFolds; ++f) {
+          score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
+                         options.resolution, held_scores);
+        }
+      }
+    }
+    const bool kept = s.kept;
+    result.steps.push_back(std::move(s));
+    if (!kept) break;
+  }
+
+  // The kept terms fitted on all the data, in the order the search added them.
+  FoldModel all{ModelSpec{}, base_fit};
+  for (const SearchStep& s : result.steps) {
+    if (!s.kept) continue;
+    Fitted f = fitter.fit(all, s.named()->term, {});
+    all = std::move(f.model);
+    result.kept.push_back(last_added(all.spec, s.named()->term));
+  }
+  result.calibration = calibration_of(all.spec, all.fit, calibration, search_data);
+  if (!result.kept.empty()) {
+    result.calibration.provenance.notes += "; extended by the model search";
+  }
+  result.errors =
+      compare_held_out(search_data, training_model, held, folds, options, range_information);
+  report(1.0, "done");
+  return result;
+}
+
+}  // namespace tofcomp::calibration

@@ -1,0 +1,112 @@
+// Closing the loop: a search over the grammar of core/effect_grammar.hpp for what Eq. 8 lacks,
+// judged on held-out ranges, one term at a time (forward selection).
+//
+// Held out how. The ranges are cut into blocks of L consecutive ranges (L the longest window
+// of the d̂ comparison, fewer on a short record so that each fold has at least ten blocks), and
+// the blocks alternate between two folds. Every model — the one held so far and each candidate
+// with one more term — is fitted on each fold by the closed-form EM of core/extended_em.hpp
+// (warm-started where the model without the term ended) and scores the other fold's ranges:
+// log p(y_k − d | the model fitted without them), each range by the probability of its rounded
+// value (core::extended_log_scores; under a chain the one-step predictive probability). So every
+// range is scored once, by a fit that never saw it.
+//
+// Which term, and whether to keep it. A candidate's gain is the sum over all ranges of its score
+// less the held model's; the one with the largest gain is named. Given the junction
+// temperatures, blocks are independent under the held model, so the blocks' gains are a sample:
+// with n blocks, t = mean / (sd / √n) is Student's t with n − 1 degrees of freedom when the
+// candidate adds nothing, and a candidate fitted on other data that adds nothing cannot gain on
+// average (its extra parameters only cost). The named candidate is kept when its one-sided p-value
+// is at most α / m, m the candidates fitted in the step (Bonferroni): the chance that data with
+// nothing missing keep anything at all is at most α. Then the search goes on from the model with
+// it (forward selection), until nothing more passes or max_steps terms are held.
+//
+// The terms' time constants (a decay's τ, the junction lag's τ) are profiled on the fold's own
+// training ranges: a few EM iterations at each τ of a grid, then a golden-section search between
+// the best point's neighbours. One more mode is tried split from each mode, the outlier component
+// from the held modes and from the trimmed residuals' modes; the best start by the training
+// likelihood is fitted to the end.
+//
+// The held-out error of d̂ (§6, §8.4) before and after each named term, per window length:
+// windows inside each held-out block, d̂ under the fold's models. The kept terms are finally
+// fitted on all the data into the calibration (τ profiled again on all of it).
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "calibration/measured_data.hpp"
+#include "calibration/junction_estimate.hpp"
+#include "core/calibration.hpp"
+#include "core/effect_grammar.hpp"
+#include "core/extended_em.hpp"
+
+namespace tofcomp::calibration {
+
+struct ModelSearchOptions {
+  double alpha = 0.05;  // the family-wise false-alarm level of the whole search
+  int max_steps = 3;    // terms added at most
+  std::vector<Eigen::Index> windows{200, 400, 800};
+  Eigen::Index stride = 10;  // ranges between windows of the d̂ comparison
+  double resolution = kRangeResolutionMm;
+  int threads = 0;  // candidates fitted at once; 0: one per core
+};
+
+struct CandidateResult {
+  core::Term term;    // as fitted on the first fold (its τ there)
+  std::string error;  // why it could not be fitted; empty when it was
+  double held_out_gain = 0.0;  // nats over every range, each scored by the fold that left it out
+  double gain_per_range = 0.0;
+  double t_statistic = 0.0;  // of the blocks' gains
+  double p_value = 1.0;      // one-sided, Student's t with blocks − 1 degrees of freedom
+  bool ok() const { return error.empty(); }
+};
+
+// d̂'s mean absolute error on held-out windows of one length before and after a term.
+struct HeldOutError {
+  Eigen::Index window = 0;
+  Eigen::Index windows = 0;
+  double before_mae_mm = 0.0;
+  double after_mae_mm = 0.0;
+  double cramer_rao_mae_mm = 0.0;  // under the paper's modes as training fitted them
+};
+
+struct SearchStep {
+  std::vector<CandidateResult> candidates;  // ranked, the largest held-out gain first; failed last
+  double critical_p = 0.0;                  // α / (candidates fitted)
+  bool kept = false;
+  std::vector<HeldOutError> errors;  // of the named (first) candidate
+  const CandidateResult* named() const {
+    return !candidates.empty() && candidates.front().ok() ? &candidates.front() : nullptr;
+  }
+};
+
+struct ModelSearchResult {
+  std::vector<SearchStep> steps;
+  std::vector<core::Term> kept;       // in the order added, as fitted on all the data
+  core::Calibration calibration;      // the training's model with the kept terms, on all the data
+  std::vector<HeldOutError> errors;   // the training's model against the final one
+  Eigen::Index block = 0;             // ranges per block
+  Eigen::Index blocks = 0;
+  int candidates_per_step = 0;
+};
+
+using ModelSearchProgress = std::function<void(double share, const std::string& stage)>;
+
+// The search on data with a known distance, from the paper's model trained on them (its thermal
+// model, basis, θ and modes; an extension it may carry is left aside) and their smoothed junction
+// temperature under it. Throws core::InvalidInput
+// when the data are too short for two folds of ten blocks, and core::Error when the held model
+// cannot be fitted on a fold.
+ModelSearchResult search_model(const MeasuredData& data, const core::Calibration& base,
+                               const SmoothedJunction& junction,
+                               const ModelSearchOptions& options = {},
+                               const ModelSearchProgress& progress = {});
+
+// The candidates of the grammar for a model with `modes` modes, on the covariates available:
+// every bias form, each mode's offset, the spread and the weights per bin of every covariate, the
+// chain, one more mode and the outlier component (time constants still to be profiled).
+std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariates, int modes);
+
+}  // namespace tofcomp::calibration

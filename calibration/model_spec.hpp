@@ -1,0 +1,94 @@
+// A sentence of the grammar (core/effect_grammar.hpp) being fitted by the model search
+// (calibration/model_search.hpp): the terms the search holds so far, the design they give on
+// any set of ranges, and the neutral start of one more term, so that its EM begins exactly where
+// the model without it ended (each new coefficient at zero, each new bin at the pooled value, a
+// chain that starts as independent draws would be, ...).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/calibration.hpp"
+#include "core/covariate_table.hpp"
+#include "core/extended_em.hpp"
+#include "core/model_extension.hpp"
+
+namespace tofcomp::calibration {
+
+// What one search needs of the data, computed once: y − d, the basis design and the covariates.
+// The basis design is H(t̂^j) centred and orthogonalized, Q = (H − 1h̄) P R⁻¹ (a column-pivoted
+// thin QR, scaled so that QᵀQ = K I, directions below a relative 1e-10 of the largest dropped):
+// the same fitted bias up to the constant the mode offsets carry, but conditioned on any half of
+// the ranges, where a high-order basis the structure search chose on all of them (a Fourier
+// series over a few kelvin is nearly constant) can be singular to working precision.
+class SearchData {
+ public:
+  SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_design,
+             core::CovariateTable covariates);
+  Eigen::Index size() const { return y_.size(); }
+  const Eigen::VectorXd& y() const { return y_; }
+  const Eigen::MatrixXd& basis_design() const { return basis_design_; }  // Q
+  const core::CovariateTable& covariates() const { return covariates_; }
+  // The paper's θ and mode offsets in Q's coordinates, and back (the offsets shift by h̄θ).
+  void to_orthogonal(const Eigen::VectorXd& basis_theta, Eigen::VectorXd& theta,
+                     Eigen::VectorXd& mean) const;
+  void to_basis(const Eigen::VectorXd& orthogonal_theta, Eigen::VectorXd& theta,
+                Eigen::VectorXd& mean) const;
+  // The term's columns and bins on every range (not cached: the search's threads share this).
+  Eigen::MatrixXd columns(const core::Term& term) const { return covariates_.columns(term); }
+  Eigen::VectorXi bins(const core::Term& term) const { return covariates_.bins(term); }
+
+ private:
+  Eigen::VectorXd y_;
+  Eigen::MatrixXd basis_design_;
+  Eigen::RowVectorXd column_mean_;  // h̄
+  Eigen::MatrixXd basis_centred_;   // H − 1h̄, for the projection of a θ onto Q
+  Eigen::MatrixXd r_;               // the retained columns' R (r × r)
+  std::vector<Eigen::Index> retained_;  // those columns of H
+  core::CovariateTable covariates_;
+};
+
+struct ModelSpec {
+  std::vector<core::Term> bias_terms;    // their columns follow H's, in this order
+  std::vector<core::Term> offset_terms;  // each mode's columns in this order
+  std::optional<core::Term> weight_term;
+  std::optional<core::Term> variance_term;
+  bool chain = false;
+  bool outliers = false;
+  int extra_modes = 0;
+  std::vector<core::EffectLabel> effects;  // as added
+
+  // Whether a term can join: not the label of one already held, one binning per noise parameter,
+  // no chain beside binned weights or outliers.
+  bool accepts(const core::Term& term) const;
+};
+
+// The design of a spec on the given ranges (all when empty): [H, the bias terms' columns], each
+// mode's offset columns, each range's noise state.
+core::ExtendedDesign design_of(const ModelSpec& spec, const SearchData& data, int modes,
+                               const std::vector<Eigen::Index>& rows);
+
+// The spec with one more term, and the start of its fit from the parameters of the spec without
+// it (fitted on `rows`): new coefficients zero, bins at the pooled values, the chain at
+// A = ½I + ½1πᵀ, the outlier component at a small weight over the residuals' span, one more
+// mode split from mode `split_mode` (the search tries each).
+struct Extended {
+  ModelSpec spec;
+  core::ExtendedParameters start;
+};
+Extended with_term(const ModelSpec& spec, const core::ExtendedParameters& fitted,
+                   const core::Term& term, const SearchData& data,
+                   const std::vector<Eigen::Index>& rows, int split_mode = 0);
+
+// The fitted spec as a calibration: the base calibration's thermal part and basis, θ's basis part
+// (back from Q to H) and the modes from the fit, the rest as a core::ModelExtension (none when the
+// spec is empty).
+core::Calibration calibration_of(const ModelSpec& spec, const core::ExtendedParameters& fitted,
+                                 const core::Calibration& base, const SearchData& data);
+
+// The number of free parameters a spec's fit has beyond the paper's (for reports).
+int added_parameters(const ModelSpec& spec, int modes);
+
+}  // namespace tofcomp::calibration

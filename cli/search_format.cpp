@@ -1,0 +1,156 @@
+#include "cli/search_format.hpp"
+
+#include <fmt/format.h>
+
+#include <string>
+
+namespace tofcomp::cli {
+namespace {
+
+// Candidates printed per step in the text (all of them are in the JSON).
+constexpr std::size_t kCandidatesShown = 8;
+
+nlohmann::json label_json(const core::Term& t) {
+  const core::EffectLabel label = t.label();
+  nlohmann::json out{{"effect", core::effect_name(label)},
+                     {"parameter", core::label_parameter_token(label)},
+                     {"covariate", core::label_covariate_token(label)},
+                     {"form", core::form_token(t.form)},
+                     {"term", t.describe()}};
+  if (t.parameter == core::Parameter::ModeOffset) out["mode"] = t.mode + 1;
+  if (t.needs_time_constant()) out["time_constant_s"] = t.time_constant_s;
+  return out;
+}
+
+nlohmann::json candidate_json(const calibration::CandidateResult& c) {
+  nlohmann::json out = label_json(c.term);
+  if (!c.ok()) {
+    out["error"] = c.error;
+    return out;
+  }
+  out["held_out_gain"] = c.held_out_gain;
+  out["gain_per_range"] = c.gain_per_range;
+  out["t"] = c.t_statistic;
+  out["p_value"] = c.p_value;
+  return out;
+}
+
+nlohmann::json errors_json(const std::vector<calibration::HeldOutError>& errors) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& e : errors) {
+    out.push_back({{"window", e.window},
+                   {"windows", e.windows},
+                   {"before_mae_mm", e.before_mae_mm},
+                   {"after_mae_mm", e.after_mae_mm},
+                   {"mae_factor", e.before_mae_mm / e.after_mae_mm},
+                   {"cramer_rao_mae_mm", e.cramer_rao_mae_mm}});
+  }
+  return out;
+}
+
+std::string errors_text(const std::vector<calibration::HeldOutError>& errors) {
+  std::string text;
+  for (const auto& e : errors) {
+    text += fmt::format(
+        "    window {:>4} ({:>5} windows): MAE of d hat {:.3f} -> {:.3f} mm (factor {:.2f}); "
+        "Cramér–Rao bound {:.3f} mm: {:.2f} -> {:.2f} x\n",
+        e.window, e.windows, e.before_mae_mm, e.after_mae_mm, e.before_mae_mm / e.after_mae_mm,
+        e.cramer_rao_mae_mm, e.before_mae_mm / e.cramer_rao_mae_mm,
+        e.after_mae_mm / e.cramer_rao_mae_mm);
+  }
+  return text;
+}
+
+}  // namespace
+
+std::string kept_names(const calibration::ModelSearchResult& search) {
+  std::string out;
+  for (const core::Term& t : search.kept) {
+    out += (out.empty() ? "" : ", ") + core::effect_name(t.label());
+  }
+  return out.empty() ? "none" : out;
+}
+
+nlohmann::json to_json(const calibration::ModelSearchResult& search,
+                       const calibration::ModelSearchOptions& options) {
+  nlohmann::json steps = nlohmann::json::array();
+  for (const auto& s : search.steps) {
+    nlohmann::json candidates = nlohmann::json::array();
+    for (const auto& c : s.candidates) candidates.push_back(candidate_json(c));
+    steps.push_back({{"kept", s.kept},
+                     {"critical_p", s.critical_p},
+                     {"candidates", candidates},
+                     {"errors", errors_json(s.errors)}});
+  }
+  nlohmann::json kept = nlohmann::json::array();
+  for (const core::Term& t : search.kept) kept.push_back(label_json(t));
+  nlohmann::json base = nlohmann::json::object(), final = nlohmann::json::object(),
+                 bound = nlohmann::json::object();
+  for (const auto& e : search.errors) {
+    base[std::to_string(e.window)] = e.before_mae_mm;
+    final[std::to_string(e.window)] = e.after_mae_mm;
+    bound[std::to_string(e.window)] = e.cramer_rao_mae_mm;
+  }
+  const calibration::CandidateResult* best =
+      search.steps.empty() ? nullptr : search.steps.front().named();
+  return {{"alpha", options.alpha},
+          {"block", search.block},
+          {"blocks", search.blocks},
+          {"candidates_per_step", search.candidates_per_step},
+          {"steps", steps},
+          {"best", best ? label_json(best->term) : nlohmann::json(nullptr)},
+          {"kept", kept},
+          {"mae_mm", {{"base", base}, {"final", final}}},
+          {"cramer_rao_mae_mm", bound}};
+}
+
+std::string search_text(const calibration::ModelSearchResult& search,
+                        const calibration::ModelSearchOptions& options) {
+  std::string text = fmt::format(
+      "model search: {} candidates of the grammar per step, each fitted on one of two folds "
+      "({} blocks of {} ranges) and scored on the other; kept at {:g} family-wise "
+      "(Bonferroni)\n",
+      search.candidates_per_step, search.blocks, search.block, options.alpha);
+  text += search.kept.empty() ? "verdict: nothing kept: the paper's model explains the data\n"
+                              : fmt::format("verdict: the model lacks {}\n", kept_names(search));
+  for (std::size_t i = 0; i < search.steps.size(); ++i) {
+    const auto& s = search.steps[i];
+    const calibration::CandidateResult* named = s.named();
+    if (!named) {
+      text += fmt::format("  step {}: no candidate could be fitted\n", i + 1);
+      continue;
+    }
+    text += fmt::format(
+        "  step {}: named {} ({}): held-out gain {:.1f} nats ({:.2e} per range), t {:.2f}, "
+        "p {:.2g} {} {:.2g}: {}\n",
+        i + 1, core::effect_name(named->term.label()), named->term.describe(),
+        named->held_out_gain, named->gain_per_range, named->t_statistic, named->p_value,
+        s.kept ? "<=" : ">", s.critical_p, s.kept ? "kept" : "not kept");
+    text += errors_text(s.errors);
+  }
+  if (!search.errors.empty()) {
+    text += "the held-out error of d hat, the trained model -> the final one:\n";
+    text += errors_text(search.errors);
+  }
+  for (std::size_t i = 0; i < search.steps.size(); ++i) {
+    const auto& s = search.steps[i];
+    text += fmt::format("step {} candidates (the first {} of {}):\n", i + 1,
+                        std::min(kCandidatesShown, s.candidates.size()), s.candidates.size());
+    text += fmt::format("  {:<44} {:<44} {:>11} {:>8} {:>9}\n", "effect", "term", "gain/range",
+                        "t", "p");
+    for (std::size_t c = 0; c < s.candidates.size() && c < kCandidatesShown; ++c) {
+      const auto& r = s.candidates[c];
+      if (!r.ok()) {
+        text += fmt::format("  {:<44} {:<44} not fitted: {}\n", core::effect_name(r.term.label()),
+                            r.term.describe(), r.error);
+        continue;
+      }
+      text += fmt::format("  {:<44} {:<44} {:>11.2e} {:>8.2f} {:>9.2g}\n",
+                          core::effect_name(r.term.label()), r.term.describe(), r.gain_per_range,
+                          r.t_statistic, r.p_value);
+    }
+  }
+  return text;
+}
+
+}  // namespace tofcomp::cli

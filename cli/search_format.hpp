@@ -1,0 +1,25 @@
+// The text and JSON forms of the model search (calibration/model_search.hpp): what
+// `tofcomp diagnose` prints first, the headline (what was named, kept, the held-out error of d̂
+// before and after against the Cramér–Rao bound), then each step's ranked candidates.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "calibration/model_search.hpp"
+
+namespace tofcomp::cli {
+
+// {alpha, block, blocks, candidates_per_step, steps: [{kept, critical_p, candidates: [...],
+//  errors: [...]}], best: {effect, parameter, covariate, form, term} | null, kept: [...],
+//  mae_mm: {base: {window: mm}, final: {...}}, cramer_rao_mae_mm: {window: mm}}
+nlohmann::json to_json(const calibration::ModelSearchResult& search,
+                       const calibration::ModelSearchOptions& options);
+
+// The name of what was kept ("none" when nothing was).
+std::string kept_names(const calibration::ModelSearchResult& search);
+
+std::string search_text(const calibration::ModelSearchResult& search,
+                        const calibration::ModelSearchOptions& options);
+
+}  // namespace tofcomp::cli
