@@ -403,11 +403,16 @@ std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariate
     }
     add(Parameter::ModeOffset, Covariate::TimeSincePowerOn, Form::Decay, i);
   }
+  // The spreads and the weights: a log-variance or log-odds slope on each covariate (a decay
+  // after power-on), and free bins of the junction temperature for a dependence that is not
+  // monotone.
   for (const Parameter p : {Parameter::Spread, Parameter::Weights}) {
     for (const Covariate c : {Covariate::JunctionTemperature, Covariate::HeatingRate,
-                              Covariate::TimeSincePowerOn, Covariate::Time, Covariate::Ambient}) {
-      add(p, c, Form::Bins, -1);
+                              Covariate::Time, Covariate::Ambient}) {
+      add(p, c, Form::Linear, -1);
     }
+    add(p, Covariate::TimeSincePowerOn, Form::Decay, -1);
+    add(p, Covariate::JunctionTemperature, Form::Bins, -1);
   }
   for (const Parameter p : {Parameter::Markov, Parameter::ExtraMode, Parameter::Outliers}) {
     add(p, Covariate::None, Form::None, -1);

@@ -105,8 +105,9 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
                                const ModelSearchProgress& progress = {});
 
 // The candidates of the grammar for a model with `modes` modes, on the covariates available:
-// every bias form, each mode's offset, the spread and the weights per bin of every covariate, the
-// chain, one more mode and the outlier component (time constants still to be profiled).
+// every bias form, each mode's offset, a slope of the spreads and of the weights on every
+// covariate (and their bins of the junction temperature), the chain, one more mode and the
+// outlier component (time constants still to be profiled).
 std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariates, int modes);
 
 }  // namespace tofcomp::calibration

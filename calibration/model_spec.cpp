@@ -104,12 +104,32 @@ void split_mode_into_two(core::ExtendedParameters& p, int s) {
     t.conservativeResize(Eigen::NoChange, modes + 1);
     t.col(modes) = 0.5 * t.col(s);
     t.col(s) *= 0.5;
+    if (m.weight_bins->term.is_parametric_noise()) {
+      // Half the weight each: both halves' log-odds fall by log 2 (mode 1's stay the reference).
+      core::NoiseBins& b = m.weight_bins.value();
+      grow(b.intercept, b.intercept[s]);
+      grow(b.slope, b.slope[s]);
+      if (s == 0) {
+        b.intercept.tail(modes) .array() += std::log(2.0);
+        b.intercept[0] = 0.0, b.intercept[modes] = 0.0;
+      } else {
+        b.intercept[s] -= std::log(2.0), b.intercept[modes] -= std::log(2.0);
+      }
+      b.refresh_table();
+    }
   }
   if (m.variance_bins) {
     Eigen::MatrixXd& t = m.variance_bins->table;
     t.conservativeResize(Eigen::NoChange, modes + 1);
     t.col(s) *= kSplitVarianceShare;
     t.col(modes) = t.col(s);
+    if (m.variance_bins->term.is_parametric_noise()) {
+      core::NoiseBins& b = m.variance_bins.value();
+      b.intercept[s] += std::log(kSplitVarianceShare);
+      grow(b.intercept, b.intercept[s]);
+      grow(b.slope, b.slope[s]);
+      b.refresh_table();
+    }
   }
   if (m.transition.size() > 0) {
     m.transition = kChainStartStay * Eigen::MatrixXd::Identity(modes + 1, modes + 1) +
@@ -117,6 +137,19 @@ void split_mode_into_two(core::ExtendedParameters& p, int s) {
                        m.modes.weight.transpose();
   }
   p.mode_coefficients.emplace_back(0);
+}
+
+// A noise term at the held model's values in every bin or level: the weights' log-odds against
+// mode 1 (or the log-variances) as intercepts, no slope.
+core::NoiseBins neutral_bins(const core::Term& term, const Eigen::VectorXd& values, bool weights) {
+  core::NoiseBins bins{term, Eigen::VectorXd::Ones(term.levels()) * values.transpose(), {}, {}};
+  if (term.is_parametric_noise()) {
+    bins.intercept = weights ? Eigen::VectorXd((values.array() / values[0]).log())
+                             : Eigen::VectorXd(values.array().log());
+    bins.slope = Eigen::VectorXd::Zero(values.size());
+    bins.refresh_table();
+  }
+  return bins;
 }
 
 }  // namespace
@@ -231,15 +264,11 @@ Extended with_term(const ModelSpec& spec, const core::ExtendedParameters& fitted
     }
     case core::Parameter::Weights:
       out.spec.weight_term = term;
-      m.weight_bins = core::NoiseBins{
-          term, Eigen::VectorXd::Ones(static_cast<Eigen::Index>(term.knots.size()) + 1) *
-                    m.modes.weight.transpose()};
+      m.weight_bins = neutral_bins(term, m.modes.weight, true);
       break;
     case core::Parameter::Spread:
       out.spec.variance_term = term;
-      m.variance_bins = core::NoiseBins{
-          term, Eigen::VectorXd::Ones(static_cast<Eigen::Index>(term.knots.size()) + 1) *
-                    m.modes.variance.transpose()};
+      m.variance_bins = neutral_bins(term, m.modes.variance, false);
       break;
     case core::Parameter::Markov:
       out.spec.chain = true;
@@ -258,10 +287,7 @@ Extended with_term(const ModelSpec& spec, const core::ExtendedParameters& fitted
             trimmed_quantile_modes(residual, modes, m.modes.variance.minCoeff());
         m.modes.mean = trimmed.mean;
         m.modes.variance = trimmed.variance;
-        if (m.variance_bins) {
-          m.variance_bins->table = Eigen::VectorXd::Ones(m.variance_bins->table.rows()) *
-                                   trimmed.variance.transpose();
-        }
+        if (m.variance_bins) m.variance_bins = neutral_bins(m.variance_bins->term, trimmed.variance, false);
       }
       break;
     }
@@ -307,8 +333,11 @@ int added_parameters(const ModelSpec& spec, int modes) {
   int n = 0;
   for (const core::Term& t : spec.bias_terms) n += t.columns();
   for (const core::Term& t : spec.offset_terms) n += t.columns();
-  if (spec.weight_term) n += static_cast<int>(spec.weight_term->knots.size()) * (modes - 1);
-  if (spec.variance_term) n += static_cast<int>(spec.variance_term->knots.size()) * modes;
+  const auto noise = [](const core::Term& t, int free_modes) {
+    return t.is_parametric_noise() ? free_modes : static_cast<int>(t.knots.size()) * free_modes;
+  };
+  if (spec.weight_term) n += noise(*spec.weight_term, modes - 1);
+  if (spec.variance_term) n += noise(*spec.variance_term, modes);
   if (spec.chain) n += modes * (modes - 1);
   if (spec.outliers) n += 1;
   n += 3 * spec.extra_modes;

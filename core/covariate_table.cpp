@@ -14,6 +14,9 @@ namespace {
 constexpr std::array<double, kSmoothKnots> kKnotQuantiles{0.02, 0.26, 0.5, 0.74, 0.98};
 // A covariate whose standard deviation is below this share of its magnitude is constant.
 constexpr double kRelativeConstantSpread = 1e-9;
+// A parametric noise term's levels span f between the covariate's values at these quantiles
+// (beyond them a range takes the end level).
+constexpr std::array<double, 2> kLevelRangeQuantiles{0.005, 0.995};
 
 std::vector<double> sorted_values(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& rows) {
   std::vector<double> out;
@@ -30,6 +33,35 @@ std::vector<double> sorted_values(const Eigen::VectorXd& v, const std::vector<Ei
 double quantile(const std::vector<double>& sorted, double q) {
   const auto at = static_cast<std::size_t>(std::floor(q * static_cast<double>(sorted.size() - 1)));
   return sorted[at];
+}
+
+void require_increasing(const Eigen::VectorXd& knots, const Term& term);
+
+// f(c) of a linear or decay term at one covariate value.
+double design_value(const Term& term, double c) {
+  Eigen::RowVectorXd row(1);
+  term_design_row(term, c, row);
+  return row[0];
+}
+
+// The edges, in the covariate's units, of kNoiseLevels levels equally spaced in f between f's
+// values at the covariate's extreme quantiles.
+Eigen::VectorXd level_edges(const Term& term, const std::vector<double>& sorted) {
+  const double c_lo = quantile(sorted, kLevelRangeQuantiles[0]);
+  const double c_hi = quantile(sorted, kLevelRangeQuantiles[1]);
+  if (!(c_hi > c_lo)) throw InvalidInput("term " + term.describe() + ": the covariate is constant");
+  const double f_lo = design_value(term, c_lo), f_hi = design_value(term, c_hi);
+  std::vector<double> edges;
+  for (int j = 1; j < kNoiseLevels; ++j) {
+    const double f = f_lo + (f_hi - f_lo) * static_cast<double>(j) / kNoiseLevels;
+    // Back to the covariate: f = (c − centre)/scale, or f = exp(−c/τ).
+    edges.push_back(term.form == Form::Linear ? term.centre + term.scale * f
+                                              : -term.time_constant_s * std::log(f));
+  }
+  std::sort(edges.begin(), edges.end());
+  Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(edges.data(), kNoiseLevels - 1);
+  require_increasing(out, term);
+  return out;
 }
 
 void require_increasing(const Eigen::VectorXd& knots, const Term& term) {
@@ -161,6 +193,7 @@ Term CovariateTable::make_term(Parameter parameter, Covariate covariate, Form fo
     }
     require_increasing(term.knots, term);
   }
+  if (term.is_parametric_noise()) term.knots = level_edges(term, sorted);
   term.validate();
   return term;
 }
@@ -208,6 +241,20 @@ void term_design_row(const Term& term, double c, Eigen::Ref<Eigen::RowVectorXd, 
       break;
   }
   throw InvalidInput("term " + term.describe() + " has no design columns");
+}
+
+Eigen::VectorXd noise_level_values(const Term& term) {
+  const Eigen::Index edges = term.knots.size();
+  if (!term.is_parametric_noise() || edges < 2) {
+    throw InvalidInput("term " + term.describe() + " has no levels of f");
+  }
+  Eigen::VectorXd f(edges);
+  for (Eigen::Index j = 0; j < edges; ++j) f[j] = design_value(term, term.knots[j]);
+  Eigen::VectorXd out(edges + 1);
+  out[0] = f[0] - 0.5 * (f[1] - f[0]);
+  for (Eigen::Index l = 1; l < edges; ++l) out[l] = 0.5 * (f[l - 1] + f[l]);
+  out[edges] = f[edges - 1] + 0.5 * (f[edges - 1] - f[edges - 2]);
+  return out;
 }
 
 int term_bin(const Term& term, double c) {

@@ -57,6 +57,9 @@ class CovariateTable {
 
 // One term's design at one covariate value: its columns (term.columns() of them) or its bin.
 // The daemon evaluates terms this way, scan by scan.
+// f at each level of a parametric noise term (linear or decay): the middle of the level's span
+// of f (the end levels as wide as their neighbours).
+Eigen::VectorXd noise_level_values(const Term& term);
 void term_design_row(const Term& term, double covariate_value, Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row);
 int term_bin(const Term& term, double covariate_value);
 

@@ -211,7 +211,7 @@ void Term::validate() const {
   if (covariate == Covariate::None) fail("needs a covariate");
   const bool mean = is_mean_term();
   if (mean && form == Form::Bins) fail("a bias or offset term takes linear, smooth or decay");
-  if (!mean && form != Form::Bins) fail("a spread or weights term takes bins");
+  if (!mean && form == Form::Smooth) fail("a spread or weights term takes bins, linear or decay");
   if (form == Form::None) fail("needs a form");
   if (form == Form::Decay && covariate != Covariate::TimeSincePowerOn &&
       covariate != Covariate::Time) {
@@ -228,6 +228,9 @@ void Term::validate() const {
     fail("needs " + std::to_string(kSmoothKnots) + " knots");
   }
   if (form == Form::Bins && knots.size() < 1) fail("needs at least one bin edge");
+  if (is_parametric_noise() && knots.size() != kNoiseLevels - 1) {
+    fail("needs the " + std::to_string(kNoiseLevels - 1) + " edges of its levels");
+  }
   for (Eigen::Index i = 0; i < knots.size(); ++i) {
     if (!std::isfinite(knots[i]) || (i > 0 && !(knots[i] > knots[i - 1]))) {
       fail("knots must be finite and increasing");

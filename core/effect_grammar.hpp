@@ -9,15 +9,19 @@
 //   parameter      forms                       what a term adds to Eq. 8
 //   bias           linear, smooth, decay        Σ_c γ_c f(c_k): one or a few design columns
 //   mode offset    linear, decay                μ_i + β f(c_k) for one mode i
-//   spread         bins                         σ²_i per bin of the covariate
-//   weights        bins                         π_i per bin of the covariate
+//   spread         bins, linear, decay          σ²_i per bin, or log σ²_i + s_i f(c_k)
+//   weights        bins, linear, decay          π_i per bin, or log-odds a_i + b_i f(c_k)
 //   markov         -                            the mode a Markov chain (transition matrix A)
 //   extra mode     -                            M + 1 modes
 //   outliers       -                            a uniform component of weight ε
 //
 // The forms: linear, f(c) = (c − c̄)/s (standardized); smooth, piecewise-linear hat functions on
 // knots at the covariate's quantiles (constant beyond the end knots); decay, exp(−c/τ) with τ
-// profiled by the search; bins, a parameter value per quantile bin.
+// profiled by the search; bins, a parameter value per quantile bin. A spread or weights term of
+// the linear or decay form is evaluated on kNoiseLevels levels of f, equally spaced between its
+// extremes on the data (its knots are the levels' edges in the covariate's units): within
+// 1/(2 kNoiseLevels) of f's span of the exact value, and the E-step, the daemon and the file keep
+// one table per level, as for bins.
 //
 // The covariates, at each range: the junction temperature t̂^j (§3.3), its heating rate
 // (°C/min), the time since the last power-on, the time since the start (h), the logged ambient,
@@ -80,6 +84,7 @@ inline constexpr std::array<double, 7> kTimeConstantGridS{30.0,  60.0,  120.0, 2
 // Knots of the smooth form and bins of the bins form, at the covariate's quantiles.
 inline constexpr int kSmoothKnots = 5;
 inline constexpr int kCovariateBins = 4;
+inline constexpr int kNoiseLevels = 24;
 
 // One term of the grammar with what defines its design, but no fitted value: the candidate a
 // search fits. `mode` names the mode of a mode-offset term (0-based); `time_constant_s` the τ of a
@@ -99,11 +104,18 @@ struct Term {
   bool is_mean_term() const {  // adds design columns (bias, a mode's offset)
     return parameter == Parameter::Bias || parameter == Parameter::ModeOffset;
   }
+  bool is_noise_term() const {  // a table per bin or level (spread, weights)
+    return parameter == Parameter::Spread || parameter == Parameter::Weights;
+  }
+  // A noise term whose table follows a slope on f(c) (linear, decay) rather than free bins.
+  bool is_parametric_noise() const { return is_noise_term() && form != Form::Bins; }
   bool needs_time_constant() const {
     return form == Form::Decay || covariate == Covariate::JunctionLag;
   }
   // Design columns of a mean term: 1 (linear, decay) or kSmoothKnots − 1 (smooth).
   int columns() const;
+  // The bins or levels of a noise term (its knots + 1).
+  int levels() const { return static_cast<int>(knots.size()) + 1; }
   // "bias × time since power-on (decay, τ = 300 s)".
   std::string describe() const;
   // Throws InvalidInput naming what is inconsistent (a form the parameter does not take, a

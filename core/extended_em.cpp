@@ -1,10 +1,12 @@
 #include "core/extended_em.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
+#include "core/covariate_table.hpp"
 #include "core/error.hpp"
 #include "core/mode_regression.hpp"
 #include "core/validation.hpp"
@@ -16,6 +18,12 @@ constexpr double kMinimumMass = 1e-9;
 // The outlier weight stays inside (0, ½]: a component that took more would not be outliers.
 constexpr double kMinimumOutlierWeight = 1e-12;
 constexpr double kMaximumOutlierWeight = 0.5;
+// Newton's method on a parametric noise term's intercepts and slopes (a few parameters on the
+// levels' sufficient statistics): at most this many steps, each halved at most this often, and
+// stopped when no coordinate moves more than the tolerance.
+constexpr int kSlopeNewtonSteps = 25;
+constexpr int kSlopeHalvings = 30;
+constexpr double kSlopeTolerance = 1e-10;
 
 // w_ki = r_ki / σ²_{s(k),i}: the weights of the mean-structure and d steps.
 Eigen::MatrixXd precision_weights(const Eigen::MatrixXd& r, const Eigen::VectorXi& state,
@@ -34,6 +42,112 @@ void require_mass(double mass, const std::string& what) {
     throw NumericalError("extended EM: " + what +
                          " holds no range; the data do not support this extension");
   }
+}
+
+// The M-step of a weights term of the linear or decay form: the multinomial log-likelihood
+// Σ_l Σ_i n_li log π_li, π_li ∝ exp(a_i + b_i f_l) (mode 1's a, b zero), maximized by Newton's
+// method from the current intercepts and slopes on the levels' expected counts n_li. It is
+// concave, so each Newton step that does not raise it is halved until it does.
+void fit_weight_slopes(const Eigen::MatrixXd& counts, NoiseBins& bins) {
+  const Eigen::VectorXd f = noise_level_values(bins.term);
+  const Eigen::Index modes = counts.cols(), free = modes - 1;
+  if (free == 0) return;
+  const auto objective = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    double total = 0.0;
+    for (Eigen::Index l = 0; l < f.size(); ++l) {
+      const Eigen::ArrayXd eta = a.array() + b.array() * f[l];
+      const double top = eta.maxCoeff();
+      const double log_sum = top + std::log((eta - top).exp().sum());
+      total += (counts.row(l).transpose().array() * (eta - log_sum)).sum();
+    }
+    return total;
+  };
+  Eigen::VectorXd a = bins.intercept, b = bins.slope;
+  double current = objective(a, b);
+  for (int iteration = 0; iteration < kSlopeNewtonSteps; ++iteration) {
+    // Gradient and Hessian over (a_1..a_{M−1}, b_1..b_{M−1}).
+    Eigen::VectorXd gradient = Eigen::VectorXd::Zero(2 * free);
+    Eigen::MatrixXd hessian = Eigen::MatrixXd::Zero(2 * free, 2 * free);
+    for (Eigen::Index l = 0; l < f.size(); ++l) {
+      const Eigen::ArrayXd eta = a.array() + b.array() * f[l];
+      const Eigen::ArrayXd e = (eta - eta.maxCoeff()).exp();
+      const Eigen::VectorXd p = (e / e.sum()).matrix();
+      const double n = counts.row(l).sum();
+      const Eigen::Vector2d x(1.0, f[l]);
+      for (Eigen::Index i = 1; i < modes; ++i) {
+        const double residual = counts(l, i) - n * p[i];
+        gradient[i - 1] += residual;
+        gradient[free + i - 1] += residual * f[l];
+        for (Eigen::Index j = 1; j < modes; ++j) {
+          const double w = n * p[i] * ((i == j ? 1.0 : 0.0) - p[j]);
+          for (int u = 0; u < 2; ++u) {
+            for (int v = 0; v < 2; ++v) hessian(u * free + i - 1, v * free + j - 1) += w * x[u] * x[v];
+          }
+        }
+      }
+    }
+    const Eigen::VectorXd step = hessian.ldlt().solve(gradient);
+    if (!step.allFinite()) break;
+    double length = 1.0;
+    bool improved = false;
+    for (int halving = 0; halving < kSlopeHalvings && !improved; ++halving, length *= 0.5) {
+      Eigen::VectorXd a_next = a, b_next = b;
+      a_next.tail(free) += length * step.head(free);
+      b_next.tail(free) += length * step.tail(free);
+      const double next = objective(a_next, b_next);
+      if (next >= current) improved = true, a = a_next, b = b_next, current = next;
+    }
+    if (!improved || step.cwiseAbs().maxCoeff() < kSlopeTolerance) break;
+  }
+  bins.intercept = a;
+  bins.slope = b;
+  bins.refresh_table();
+}
+
+// The M-step of a spread term of the linear or decay form: for each mode, Σ_l [−½ m_l (v + s f_l)
+// − ½ S_l exp(−v − s f_l)] (m_l the level's expected count, S_l its expected squared residual)
+// maximized over the log-variance's intercept v and slope s by Newton's method (concave), then
+// every variance held at or above the floor.
+void fit_variance_slopes(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& square, double floor,
+                         NoiseBins& bins) {
+  const Eigen::VectorXd f = noise_level_values(bins.term);
+  for (Eigen::Index i = 0; i < mass.cols(); ++i) {
+    require_mass(mass.col(i).sum(), "mode " + std::to_string(i + 1));
+    const auto objective = [&](double v, double s) {
+      double total = 0.0;
+      for (Eigen::Index l = 0; l < f.size(); ++l) {
+        const double eta = v + s * f[l];
+        total += -0.5 * mass(l, i) * eta - 0.5 * square(l, i) * std::exp(-eta);
+      }
+      return total;
+    };
+    double v = bins.intercept[i], s = bins.slope[i], current = objective(v, s);
+    for (int iteration = 0; iteration < kSlopeNewtonSteps; ++iteration) {
+      Eigen::Vector2d gradient = Eigen::Vector2d::Zero();
+      Eigen::Matrix2d hessian = Eigen::Matrix2d::Zero();
+      for (Eigen::Index l = 0; l < f.size(); ++l) {
+        const double excess = 0.5 * square(l, i) * std::exp(-(v + s * f[l]));
+        const Eigen::Vector2d x(1.0, f[l]);
+        gradient += (excess - 0.5 * mass(l, i)) * x;
+        hessian -= excess * x * x.transpose();
+      }
+      const Eigen::Vector2d step = -hessian.ldlt().solve(gradient);
+      if (!step.allFinite()) break;
+      double length = 1.0;
+      bool improved = false;
+      for (int halving = 0; halving < kSlopeHalvings && !improved; ++halving, length *= 0.5) {
+        const double next = objective(v + length * step[0], s + length * step[1]);
+        if (next >= current) {
+          improved = true, v += length * step[0], s += length * step[1], current = next;
+        }
+      }
+      if (!improved || step.cwiseAbs().maxCoeff() < kSlopeTolerance) break;
+    }
+    bins.intercept[i] = v;
+    bins.slope[i] = s;
+  }
+  bins.refresh_table();
+  bins.table = bins.table.cwiseMax(floor);
 }
 
 // σ², π (per bin where the model has bins), the transition matrix and ε in closed form, from
@@ -64,7 +178,9 @@ void update_noise(const Eigen::VectorXd& e, const Eigen::MatrixXd& shift,
     m.modes.variance[i] = std::max(square.col(i).sum() / mode_mass[i], floor);
   }
   m.modes.weight = (mode_mass / mode_mass.sum()).transpose();
-  if (m.variance_bins) {
+  if (m.variance_bins && m.variance_bins->term.is_parametric_noise()) {
+    fit_variance_slopes(variance_mass, square, floor, *m.variance_bins);
+  } else if (m.variance_bins) {
     for (int b = 0; b < variance_states; ++b) {
       for (int i = 0; i < modes; ++i) {
         require_mass(variance_mass(b, i),
@@ -73,7 +189,9 @@ void update_noise(const Eigen::VectorXd& e, const Eigen::MatrixXd& shift,
       }
     }
   }
-  if (m.weight_bins) {
+  if (m.weight_bins && m.weight_bins->term.is_parametric_noise()) {
+    fit_weight_slopes(weight_mass, *m.weight_bins);
+  } else if (m.weight_bins) {
     for (int b = 0; b < m.weight_states(); ++b) {
       require_mass(weight_mass.row(b).sum(), "weight bin " + std::to_string(b + 1));
       m.weight_bins->table.row(b) = weight_mass.row(b) / weight_mass.row(b).sum();

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/covariate_table.hpp"
 #include "core/error.hpp"
 #include "core/validation.hpp"
 
@@ -37,11 +38,21 @@ void require_shape(const Eigen::MatrixXd& m, Eigen::Index rows, Eigen::Index col
 }
 
 void validate_bins(const NoiseBins& bins, Parameter parameter, int modes, const char* what) {
-  if (bins.term.parameter != parameter || bins.term.form != Form::Bins) {
+  if (bins.term.parameter != parameter) {
     throw InvalidInput(std::string(what) + ": the term is " + bins.term.describe());
   }
   bins.term.validate();
   require_shape(bins.table, bins.bins(), modes, what);
+  if (bins.term.is_parametric_noise()) {
+    if (bins.intercept.size() != modes || bins.slope.size() != modes) {
+      throw InvalidInput(std::string(what) + ": a parametric term needs an intercept and a slope "
+                                             "per mode");
+    }
+    require_finite(bins.intercept, "intercepts");
+    require_finite(bins.slope, "slopes");
+  } else if (bins.intercept.size() > 0 || bins.slope.size() > 0) {
+    throw InvalidInput(std::string(what) + ": bins take no intercept or slope");
+  }
 }
 
 double log_of(double p) { return p > 0.0 ? std::log(p) : kMinusInfinity; }
@@ -207,6 +218,22 @@ double e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
 
 }  // namespace
 
+void NoiseBins::refresh_table() {
+  if (!term.is_parametric_noise()) return;
+  const Eigen::VectorXd f = noise_level_values(term);
+  const Eigen::Index modes = intercept.size();
+  table.resize(f.size(), modes);
+  for (Eigen::Index l = 0; l < f.size(); ++l) {
+    const Eigen::ArrayXd eta = intercept.array() + slope.array() * f[l];
+    if (term.parameter == Parameter::Weights) {
+      const Eigen::ArrayXd e = (eta - eta.maxCoeff()).exp();
+      table.row(l) = (e / e.sum()).matrix().transpose();
+    } else {
+      table.row(l) = eta.exp().matrix().transpose();
+    }
+  }
+}
+
 double ExtendedMixture::weight(int state, int mode) const {
   return weight_bins ? weight_bins->table(state / variance_states(), mode) : modes.weight[mode];
 }
@@ -281,8 +308,12 @@ Eigen::VectorXd extended_log_scores(const Eigen::Ref<const Eigen::VectorXd>& res
 int extension_parameters(const ExtendedMixture& model) {
   const int m = model.modes.modes();
   int extra = 0;
-  if (model.weight_bins) extra += (model.weight_bins->bins() - 1) * (m - 1);
-  if (model.variance_bins) extra += (model.variance_bins->bins() - 1) * m;
+  // A parametric term adds one slope per free mode; bins one value per free mode and extra bin.
+  const auto added = [](const NoiseBins& b, int free_modes) {
+    return b.term.is_parametric_noise() ? free_modes : (b.bins() - 1) * free_modes;
+  };
+  if (model.weight_bins) extra += added(*model.weight_bins, m - 1);
+  if (model.variance_bins) extra += added(*model.variance_bins, m);
   if (model.transition.size() > 0) extra += m * (m - 1);
   if (model.outlier_weight > 0.0) extra += 1;
   return extra;

@@ -28,11 +28,20 @@
 namespace tofcomp::core {
 
 // A noise parameter per bin of a covariate: the term (its covariate and its B − 1 edges) and
-// the B × M table (weights: each row sums to one; variances: positive).
+// the B × M table (weights: each row sums to one; variances: positive). For a parametric term
+// (linear or decay form, core/effect_grammar.hpp) the table follows from each mode's intercept
+// and slope on f at the term's levels (noise_level_values):
+//   weights    π_{l,i} ∝ exp(a_i + b_i f_l), mode 1's a and b zero (the log-odds against it);
+//   variances  σ²_{l,i} = exp(a_i + b_i f_l);
+// refresh_table() computes it. A bins term has no intercept or slope.
 struct NoiseBins {
   Term term;
   Eigen::MatrixXd table;
+  Eigen::VectorXd intercept;  // a_i (parametric only)
+  Eigen::VectorXd slope;      // b_i (parametric only)
   int bins() const { return static_cast<int>(term.knots.size()) + 1; }
+  // The table from the intercepts and slopes (parametric terms; a bins term keeps its table).
+  void refresh_table();
 };
 
 struct ExtendedMixture {

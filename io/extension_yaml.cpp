@@ -18,9 +18,7 @@ void emit_term(YAML::Emitter& out, const core::Term& t) {
     out << YAML::Key << "centre" << YAML::Value << t.centre;
     out << YAML::Key << "scale" << YAML::Value << t.scale;
   }
-  if (t.knots.size() > 0) {
-    emit_vector(out, t.form == core::Form::Bins ? "edges" : "knots", t.knots);
-  }
+  if (t.knots.size() > 0) emit_vector(out, t.is_noise_term() ? "edges" : "knots", t.knots);
 }
 
 core::Term read_term(const YamlMap& x) {
@@ -50,22 +48,46 @@ core::Term read_term(const YamlMap& x) {
   return t;
 }
 
+// Bins write their table; a parametric term (linear, decay) its intercepts and slopes, from which
+// the reader computes the table again.
 void emit_bins(YAML::Emitter& out, const char* key, const char* table_key,
                const core::NoiseBins& bins) {
   out << YAML::Key << key << YAML::Value << YAML::BeginMap;
   emit_term(out, bins.term);
-  emit_matrix(out, table_key, bins.table);
+  if (bins.term.is_parametric_noise()) {
+    emit_vector(out, "intercept", bins.intercept);
+    emit_vector(out, "slope", bins.slope);
+  } else {
+    emit_matrix(out, table_key, bins.table);
+  }
   out << YAML::EndMap;
 }
 
 core::NoiseBins read_bins(const YamlMap& x, std::string_view key, const char* table_key) {
   const YamlMap b(x.node(key), x.child_path(key),
-                  {"parameter", "covariate", "form", "time_constant_s", "edges", table_key});
+                  {"parameter", "covariate", "form", "time_constant_s", "centre", "scale", "edges",
+                   "intercept", "slope", table_key});
   core::NoiseBins bins;
   bins.term = read_term(b);
-  bins.table = read_matrix(b, table_key);
-  if (bins.table.size() == 0) b.fail(table_key, "is required");
+  if (bins.term.is_parametric_noise()) {
+    bins.intercept = read_vector(b, "intercept");
+    bins.slope = read_vector(b, "slope");
+    if (bins.intercept.size() != bins.slope.size()) b.fail("slope", "must be as long as intercept");
+    bins.refresh_table();
+  } else {
+    bins.table = read_matrix(b, table_key);
+    if (bins.table.size() == 0) b.fail(table_key, "is required");
+  }
   return bins;
+}
+
+// The outlier component, when the extension has one (both versions write it alike).
+void read_outliers(const YamlMap& x, core::ExtendedMixture& m) {
+  if (!x.has("outlier_weight")) return;
+  m.outlier_weight = x.number("outlier_weight");
+  const double span = x.number("outlier_span_mm");
+  if (!(span > 0.0)) x.fail("outlier_span_mm", "must be positive");
+  m.outlier_density = 1.0 / span;
 }
 
 // Version 1: one effect; its covariate term and its bins on the junction temperature.
@@ -131,12 +153,7 @@ core::ModelExtension read_version_1(const YamlMap& top, const core::MixtureParam
   e.extended_mixture.weight_bins = bins(Parameter::Weights, "bin_weights");
   e.extended_mixture.variance_bins = bins(Parameter::Spread, "bin_variances_mm2");
   e.extended_mixture.transition = read_matrix(x, "transition");
-  if (x.has("outlier_weight")) {
-    e.extended_mixture.outlier_weight = x.number("outlier_weight");
-    const double span = x.number("outlier_span_mm");
-    if (!(span > 0.0)) x.fail("outlier_span_mm", "must be positive");
-    e.extended_mixture.outlier_density = 1.0 / span;
-  }
+  read_outliers(x, e.extended_mixture);
   return e;
 }
 
@@ -173,12 +190,7 @@ core::ModelExtension read_version_2(const YamlMap& top, const core::MixtureParam
     e.extended_mixture.variance_bins = read_bins(x, "spread_bins", "variances_mm2");
   }
   e.extended_mixture.transition = read_matrix(x, "transition");
-  if (x.has("outlier_weight")) {
-    e.extended_mixture.outlier_weight = x.number("outlier_weight");
-    const double span = x.number("outlier_span_mm");
-    if (!(span > 0.0)) x.fail("outlier_span_mm", "must be positive");
-    e.extended_mixture.outlier_density = 1.0 / span;
-  }
+  read_outliers(x, e.extended_mixture);
   return e;
 }
 

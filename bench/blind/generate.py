@@ -29,20 +29,7 @@ from concurrent.futures import ProcessPoolExecutor
 # --------------------------------------------------------------------------------------------
 # The effects' vocabulary (fixed, shared with score.py)
 # --------------------------------------------------------------------------------------------
-KINDS = [
-    ("bias", "time"),
-    ("bias", "time_since_power_on"),
-    ("bias", "heating_rate"),
-    ("bias", "ambient"),
-    ("mode_offset", "junction_temperature"),
-    ("spread", "junction_temperature"),
-    ("weights", "junction_temperature"),
-    ("weights", "time_since_power_on"),
-    ("markov", "none"),
-    ("extra_mode", "none"),
-    ("outliers", "none"),
-    ("thermal_state", "none"),
-]
+from kinds import KINDS  # noqa: E402  (the vocabulary both scripts share)
 KIND_NAMES = ["%s:%s" % k for k in KINDS]
 
 # a bias effect is redrawn (up to this many tries) while the part of it that no smooth function of

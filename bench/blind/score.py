@@ -29,20 +29,7 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-KINDS = [
-    ("bias", "time"),
-    ("bias", "time_since_power_on"),
-    ("bias", "heating_rate"),
-    ("bias", "ambient"),
-    ("mode_offset", "junction_temperature"),
-    ("spread", "junction_temperature"),
-    ("weights", "junction_temperature"),
-    ("weights", "time_since_power_on"),
-    ("markov", "none"),
-    ("extra_mode", "none"),
-    ("outliers", "none"),
-    ("thermal_state", "none"),
-]
+from kinds import KINDS  # noqa: E402  (the vocabulary both scripts share)
 SEP = "\u00d7"  # ×
 LABELS = [p + SEP + c for p, c in KINDS]
 ABBR = dict(zip(LABELS, ["B.time", "B.t_on", "B.rate", "B.amb", "MO.tj", "S.tj", "W.tj", "W.t_on",

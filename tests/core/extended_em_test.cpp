@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 
+#include "core/covariate_table.hpp"
 #include "core/em_test.hpp"
 #include "core/error.hpp"
 
@@ -159,7 +160,7 @@ TEST(ExtendedMixture, ValidationNamesTheProblem) {
   EXPECT_THROW(m.validate(), InvalidInput);  // a chain with an outlier component
   m = without_extensions(two_modes());
   m.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, Eigen::Vector2d(26.0, 25.0)),
-                            Eigen::MatrixXd::Constant(3, 2, 0.5)};
+                            Eigen::MatrixXd::Constant(3, 2, 0.5), {}, {}};
   EXPECT_THROW(m.validate(), InvalidInput);  // edges not increasing
   m.weight_bins->term.knots = Eigen::Vector2d(25.0, 26.0);
   m.weight_bins->table = Eigen::MatrixXd::Constant(2, 2, 0.5);
@@ -210,9 +211,9 @@ TEST(ExtendedEm, RecoversBinWeightsVariancesAndBias) {
   ExtendedMixture start = without_extensions(two_modes());
   const Eigen::VectorXd edge = Eigen::VectorXd::Constant(1, 26.0);
   start.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, edge),
-                                Eigen::MatrixXd::Constant(2, 2, 0.5)};
+                                Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
   start.variance_bins =
-      NoiseBins{temperature_bins(Parameter::Spread, edge), Eigen::MatrixXd::Ones(2, 2)};
+      NoiseBins{temperature_bins(Parameter::Spread, edge), Eigen::MatrixXd::Ones(2, 2), {}, {}};
   // The noise state of each range: its weight bin × 2 + its spread bin (the same bin here).
   Eigen::VectorXi state(k);
   for (Eigen::Index i = 0; i < k; ++i) state[i] = t[i] >= 26.0 ? 3 : 0;
@@ -350,8 +351,8 @@ TEST(ExtendedEm, WeightsAndSpreadsBinnedByDifferentCovariates) {
   Term time_bins = temperature_bins(Parameter::Spread, Eigen::VectorXd::Constant(1, 1.0));
   time_bins.covariate = Covariate::Time;
   start.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, Eigen::VectorXd::Constant(1, 26.0)),
-                                Eigen::MatrixXd::Constant(2, 2, 0.5)};
-  start.variance_bins = NoiseBins{time_bins, Eigen::MatrixXd::Ones(2, 2)};
+                                Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
+  start.variance_bins = NoiseBins{time_bins, Eigen::MatrixXd::Ones(2, 2), {}, {}};
   const ExtendedEmResult em = train_extended_em(design(Eigen::MatrixXd(k, 0), 2, state), y,
                                                 start_at(Eigen::VectorXd(0), start));
   const ExtendedParameters& fit = em.fit;
@@ -359,6 +360,68 @@ TEST(ExtendedEm, WeightsAndSpreadsBinnedByDifferentCovariates) {
   EXPECT_NEAR(fit.model.weight_bins->table(1, 1), 0.65, 0.015);
   EXPECT_NEAR(std::sqrt(fit.model.variance_bins->table(0, 0)), 0.6, 0.02);
   EXPECT_NEAR(std::sqrt(fit.model.variance_bins->table(1, 1)), 1.2, 0.03);
+}
+
+// A parametric noise term (core/effect_grammar.hpp) of the junction temperature: levels of
+// f = (t − 26)/1 between 23 and 29 °C.
+Term linear_noise_term(Parameter parameter) {
+  Term t;
+  t.parameter = parameter;
+  t.covariate = Covariate::JunctionTemperature;
+  t.form = Form::Linear;
+  t.centre = 26.0;
+  t.scale = 1.0;
+  t.knots.resize(kNoiseLevels - 1);
+  for (int j = 1; j < kNoiseLevels; ++j) {
+    t.knots[j - 1] = 23.0 + 6.0 * static_cast<double>(j) / kNoiseLevels;
+  }
+  return t;
+}
+
+// The weights' log-odds and the spreads' log-variances linear in the temperature, each drawn and
+// recovered: the slopes come back within their sampling error, and the log-likelihood never falls.
+TEST(ExtendedEm, RecoversWeightAndSpreadSlopes) {
+  std::mt19937_64 rng(10);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Index k = 40000;
+  const double odds_intercept = -0.4, odds_slope = 0.9;   // mode 2 against mode 1
+  const double log_var_slope = 0.25;                     // both modes
+  const Term weights = linear_noise_term(Parameter::Weights);
+  const Term spread = linear_noise_term(Parameter::Spread);
+  Eigen::VectorXi state(k);
+  Eigen::VectorXd y(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const double t = 23.0 + 6.0 * u(rng), f = t - 26.0;
+    const double p2 = 1.0 / (1.0 + std::exp(-(odds_intercept + odds_slope * f)));
+    const int mode = u(rng) < p2 ? 1 : 0;
+    const double sigma = (mode ? 1.1 : 0.8) * std::exp(0.5 * log_var_slope * f);
+    y[i] = (mode ? 2.5 : -2.5) + sigma * n(rng);
+    state[i] = term_bin(weights, t) * kNoiseLevels + term_bin(spread, t);
+  }
+  ExtendedMixture start = without_extensions(two_modes());
+  start.weight_bins = NoiseBins{weights, {}, Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d::Zero()};
+  start.weight_bins->refresh_table();
+  start.variance_bins = NoiseBins{spread, {}, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
+  start.variance_bins->refresh_table();
+  const ExtendedEmResult em =
+      train_extended_em(design(Eigen::MatrixXd(k, 0), 2, state), y, start_at(Eigen::VectorXd(0), start));
+  const ExtendedMixture& fit = em.fit.model;
+  EXPECT_NEAR(fit.weight_bins->intercept[1], odds_intercept, 0.05);
+  EXPECT_NEAR(fit.weight_bins->slope[1], odds_slope, 0.04);
+  EXPECT_EQ(fit.weight_bins->slope[0], 0.0);  // mode 1 is the reference
+  EXPECT_NEAR(fit.variance_bins->slope[0], log_var_slope, 0.03);
+  EXPECT_NEAR(fit.variance_bins->slope[1], log_var_slope, 0.03);
+  EXPECT_NEAR(std::exp(0.5 * fit.variance_bins->intercept[0]), 0.8, 0.03);
+  for (std::size_t i = 1; i < em.log_likelihood_trace.size(); ++i) {
+    EXPECT_GE(em.log_likelihood_trace[i], em.log_likelihood_trace[i - 1] - 1e-8);
+  }
+  // The table follows the intercepts and slopes at every level.
+  const Eigen::VectorXd f = noise_level_values(weights);
+  for (Eigen::Index l = 0; l < f.size(); ++l) {
+    const double odds = fit.weight_bins->intercept[1] + fit.weight_bins->slope[1] * f[l];
+    EXPECT_NEAR(fit.weight_bins->table(l, 1), 1.0 / (1.0 + std::exp(-odds)), 1e-12);
+  }
 }
 
 }  // namespace

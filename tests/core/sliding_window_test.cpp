@@ -176,11 +176,11 @@ int state_at(const ExtendedMixture& m, double junction) {
 std::vector<ExtendedCase> extended_cases() {
   std::vector<ExtendedCase> cases;
   ExtendedMixture weights = without_extensions(kModes);
-  weights.weight_bins = NoiseBins{temperature_bins(Parameter::Weights), Eigen::MatrixXd(2, 2)};
+  weights.weight_bins = NoiseBins{temperature_bins(Parameter::Weights), Eigen::MatrixXd(2, 2), {}, {}};
   weights.weight_bins->table << 0.85, 0.15, 0.2, 0.8;
   cases.push_back({"bin weights", weights});
   ExtendedMixture spread = without_extensions(kModes);
-  spread.variance_bins = NoiseBins{temperature_bins(Parameter::Spread), Eigen::MatrixXd(2, 2)};
+  spread.variance_bins = NoiseBins{temperature_bins(Parameter::Spread), Eigen::MatrixXd(2, 2), {}, {}};
   spread.variance_bins->table << 0.5, 0.6, 2.5, 3.0;
   cases.push_back({"bin variances", spread});
   cases.push_back({"mode offset shift", without_extensions(kModes), 0.3});

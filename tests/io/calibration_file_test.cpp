@@ -188,11 +188,11 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   core::Term weights =
       term(core::Parameter::Weights, core::Covariate::TimeSincePowerOn, core::Form::Bins);
   weights.knots = Eigen::Vector2d(120.0, 900.5);
-  e.extended_mixture.weight_bins = core::NoiseBins{weights, Eigen::MatrixXd::Constant(3, 2, 0.5)};
+  e.extended_mixture.weight_bins = core::NoiseBins{weights, Eigen::MatrixXd::Constant(3, 2, 0.5), {}, {}};
   core::Term spread =
       term(core::Parameter::Spread, core::Covariate::JunctionTemperature, core::Form::Bins);
   spread.knots = Eigen::Vector2d(25.5, 27.25);
-  e.extended_mixture.variance_bins = core::NoiseBins{spread, Eigen::MatrixXd::Constant(3, 2, 0.7)};
+  e.extended_mixture.variance_bins = core::NoiseBins{spread, Eigen::MatrixXd::Constant(3, 2, 0.7), {}, {}};
   e.extended_mixture.variance_bins->table(2, 1) = 1.0 / 7.0;
   e.extended_mixture.outlier_weight = 0.015;
   e.extended_mixture.outlier_density = 1.0 / 180.0;
@@ -225,6 +225,25 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   // The same file again, byte for byte.
   write_calibration_file(temp_file("extended2.yaml"), back);
   EXPECT_EQ(read_all(file), read_all(temp_file("extended2.yaml")));
+
+  // A parametric spread (a decay after power-on): its intercepts and slopes, its table again.
+  core::Term decay = term(core::Parameter::Spread, core::Covariate::TimeSincePowerOn, core::Form::Decay);
+  decay.time_constant_s = 300.0;
+  decay.knots.resize(core::kNoiseLevels - 1);
+  for (int j = 1; j < core::kNoiseLevels; ++j) decay.knots[j - 1] = 60.0 * j;
+  core::ModelExtension slopes;
+  slopes.effects = {decay.label()};
+  slopes.extended_mixture = core::without_extensions(c.model.mixture);
+  slopes.extended_mixture.variance_bins =
+      core::NoiseBins{decay, {}, Eigen::Vector2d(-0.25, 0.125), Eigen::Vector2d(0.5, -1.0 / 3.0)};
+  slopes.extended_mixture.variance_bins->refresh_table();
+  c.extension = slopes;
+  write_calibration_file(file, c);
+  const core::NoiseBins read = *read_calibration_file(file).extension->extended_mixture.variance_bins;
+  EXPECT_EQ(read.intercept, slopes.extended_mixture.variance_bins->intercept);
+  EXPECT_EQ(read.slope, slopes.extended_mixture.variance_bins->slope);
+  EXPECT_EQ(read.table, slopes.extended_mixture.variance_bins->table);
+  EXPECT_EQ(read.term.knots, decay.knots);
 
   core::ModelExtension chain;
   chain.effects = {{core::Parameter::Markov, core::Covariate::None}};
