@@ -8,16 +8,9 @@ core::CovariateTable covariate_table(const MeasuredData& data, const SmoothedJun
   series.junction_c = junction.junction_c;
   series.time_since_power_on_s = data.time_since_power_on();
   if (!data.ambient.empty()) {
-    // The last logged ambient at or before each range (the first before it), as
-    // MeasuredData::ambient_at, by one walk through both ordered series.
     series.ambient_c.resize(data.range_time_s.size());
-    std::size_t next = 0;
-    double value = data.ambient.front().second;
     for (Eigen::Index k = 0; k < data.range_time_s.size(); ++k) {
-      while (next < data.ambient.size() && data.ambient[next].first <= data.range_time_s[k]) {
-        value = data.ambient[next++].second;
-      }
-      series.ambient_c[k] = value;
+      series.ambient_c[k] = data.ambient_at(data.range_time_s[k], data.ambient.front().second);
     }
   }
   series.history_time_s = junction.history_time_s;

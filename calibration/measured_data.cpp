@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -68,12 +69,11 @@ Eigen::VectorXd MeasuredData::time_since_power_on() const {
 
 double MeasuredData::ambient_at(double time_s, double fallback_c) const {
   if (ambient.empty()) return fallback_c;
-  double value = ambient.front().second;
-  for (const auto& [t, c] : ambient) {
-    if (t > time_s) break;
-    value = c;
-  }
-  return value;
+  // The last row at or before time_s (the log is in time order): O(log n).
+  const auto after = std::upper_bound(
+      ambient.begin(), ambient.end(), time_s,
+      [](double t, const std::pair<double, double>& row) { return t < row.first; });
+  return after == ambient.begin() ? ambient.front().second : std::prev(after)->second;
 }
 
 void MeasuredData::require_true_ranges() const {
