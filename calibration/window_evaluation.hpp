@@ -1,4 +1,5 @@
-// §8.4 on measured data: the three window estimators (raw mean, mean of y − Hθ̂, EM d̂ of §6)
+// §8.4 on measured data: the three window estimators (raw mean, mean of y − Hθ̂ centred by the
+// modes' common offset Σπ_iμ_i, EM d̂ of §6)
 // over windows of each length, and their error moments where the true distance is known.
 #pragma once
 
@@ -23,7 +24,7 @@ struct WindowEvaluation {
   Eigen::VectorXd truth_mm;           // mean true distance of each window
   core::ErrorMoments em;              // d̂
   core::ErrorMoments raw;             // ȳ
-  core::ErrorMoments bias_corrected;  // mean of y − Hθ̂
+  core::ErrorMoments bias_corrected;  // mean of y − Hθ̂ − Σπ_iμ_i
   // d̂ apart on the windows whose every range lies inside the junction temperatures the
   // calibration was trained on, and on those with a range beyond them (where the bias is
   // extrapolated along its tangent, core/measurement_model.hpp). Without a stored trained range

@@ -86,6 +86,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
   auto report = add_report_options(*cmd);
   cmd->callback([&common, &run, data, training, s, report] {
     run = [&common, data, training, s, report] {
+      report->check_if_requested();
       Progress progress("diagnose", !common.quiet);
       const calibration::MeasuredData measured = data->load();
       measured.require_true_ranges();
@@ -123,8 +124,8 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
                                      s->calibration_output);
         }
       }
-      report->write_if_requested(measured, training->settings(), result.json, search.calibration,
-                                 tests, options.windows, !common.quiet);
+      report->write_if_requested(measured, training->settings(), result.json, base.calibration,
+                                 search, tests, options.windows, !common.quiet);
       return result;
     };
   });

@@ -13,7 +13,7 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
   auto* cmd = app.add_subcommand(
       "test",
       "Estimate the distance on windows of ranges with a calibration (EM testing) and "
-      "report the errors of d̂, ȳ and mean(y − Hθ̂) where the truth is known");
+      "report the errors of d̂, ȳ and mean(y − Hθ̂) − Σπμ where the truth is known");
   auto data = add_data_options(*cmd);
   auto calibration = std::make_shared<std::string>();
   auto windows = std::make_shared<std::string>("200,400,800");

@@ -11,6 +11,7 @@
 #include "cli/report_figure_data.hpp"
 #include "cli/report_format.hpp"
 #include "cli/report_renderer.hpp"
+#include "cli/search_figure_data.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/version.hpp"
@@ -43,10 +44,14 @@ std::vector<Eigen::Index> fitting_windows(std::vector<Eigen::Index> wanted, Eige
 
 }  // namespace
 
+void check_report_possible(const std::string& directory) {
+  make_report_directory(directory);
+  find_report_renderer();
+}
+
 void write_diagnosis_report(const std::string& directory, const calibration::MeasuredData& measured,
                             const calibration::TrainSettings& settings,
-                            const nlohmann::json& diagnosis, const core::Calibration& diagnosed,
-                            const core::Diagnosis& residual_diagnosis, const ReportSettings& report,
+                            const DiagnosisOutcome& diagnosis, const ReportSettings& report,
                             bool show_progress) {
   const std::filesystem::path dir = make_report_directory(directory);
   const ReportRenderer renderer = find_report_renderer();
@@ -96,7 +101,10 @@ void write_diagnosis_report(const std::string& directory, const calibration::Mea
                          glr.at("fourier_f0_per_c").get<double>(), settings.em, report.cost_steps);
 
   const nlohmann::json diagnosis_samples =
-      write_diagnosis_samples(data_dir, measured, diagnosed, residual_diagnosis);
+      write_diagnosis_samples(data_dir, measured, diagnosis.trained, diagnosis.tests);
+  progress.update(0.88, "the figures of the search's terms");
+  const nlohmann::json search_terms =
+      write_search_figure_data(data_dir, measured, diagnosis.search.calibration, diagnosis.search);
 
   const nlohmann::json context = {{"source", measured.source},
                                   {"beam", measured.beam},
@@ -109,14 +117,16 @@ void write_diagnosis_report(const std::string& directory, const calibration::Mea
                                   {"stride", report.stride},
                                   {"thermal_fit", to_json(t.thermal)},
                                   {"calibration", to_json(t.calibration)},
-                                  {"diagnosis_calibration", to_json(diagnosed)},
+                                  {"diagnosis_calibration", to_json(diagnosis.trained)},
+                                  {"search_calibration", to_json(diagnosis.search.calibration)},
+                                  {"search_terms", search_terms},
                                   {"em_training_iterations", t.em.iterations},
                                   {"glr", glr},
                                   {"em_test_trace", trace},
                                   {"em_test_cost", cost},
                                   {"diagnosis_samples", diagnosis_samples}};
   io::write_file_atomically(data_dir / "context.json", context.dump(2) + "\n");
-  io::write_file_atomically(data_dir / "diagnosis.json", diagnosis.dump(2) + "\n");
+  io::write_file_atomically(data_dir / "diagnosis.json", diagnosis.json.dump(2) + "\n");
 
   progress.update(0.9, "drawing the figures");
   renderer.render(dir, show_progress);

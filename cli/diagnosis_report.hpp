@@ -1,7 +1,10 @@
 // tofcomp diagnose --report DIR: the HTML report of a diagnosis. This file's one job is the
-// data: it computes what is behind each of the paper's figures on held-out data and writes it,
-// with the diagnosis JSON, into DIR/data/, then runs the renderer (cli/report_renderer.hpp),
-// which draws DIR/figures/*.png and writes DIR/index.html.
+// data: it computes what is behind each figure and writes it, with the diagnosis JSON, into
+// DIR/data/, then runs the renderer (cli/report_renderer.hpp), which draws DIR/figures/*.png and
+// writes DIR/index.html: the search's headline first (what was kept, the held-out MAE factor of
+// d̂, MAE over the Cramér–Rao bound before and after), the figure of each term the search kept,
+// drawn with the values the final calibration holds (cli/search_figure_data.hpp), the paper's
+// figures, and the residual tests as evidence.
 //
 // The held-out split is the diagnosis's own: split_time(measured, 0.5); the paper's model is
 // trained on the first part (its thermal fit checked on the second, Fig. 8; its EM trace,
@@ -15,6 +18,7 @@
 #include <vector>
 
 #include "calibration/measured_data.hpp"
+#include "calibration/model_search.hpp"
 #include "calibration/training.hpp"
 #include "cli/report_figure_data.hpp"
 
@@ -34,16 +38,27 @@ struct ReportSettings {
   int cost_steps = 10;                         // Fig. 15: EM test steps timed
 };
 
-// Writes the report of `diagnosis` (the JSON that `tofcomp diagnose --json` prints) on
-// `measured` into `directory`, creating it. `diagnosed` is the calibration the diagnosis ran
-// under and `residual_diagnosis` the diagnosis itself: the figures of the findings are drawn on the
-// whole record under it, with the modes and residuals the tests ran on. Throws core::Error naming
-// the directory when it cannot be made, and whatever training, testing or the renderer throws.
-// Progress on stderr when show_progress.
+// Makes DIR and DIR/data and finds the renderer and a Python that runs it: what the report
+// needs that the diagnosis cannot give, checked before the diagnosis's long work. Throws
+// core::Error naming the directory, or what the renderer lacks.
+void check_report_possible(const std::string& directory);
+
+// What `tofcomp diagnose` found, as the report shows it.
+struct DiagnosisOutcome {
+  const nlohmann::json& json;                    // what `tofcomp diagnose --json` prints
+  const core::Calibration& trained;              // the paper's model the search started from
+  const calibration::ModelSearchResult& search;  // its calibration: the kept terms, fitted
+  const core::Diagnosis& tests;                  // the residual tests, run under `trained`
+};
+
+// Writes the report of a diagnosis on `measured` into `directory`, creating it. The figures of the
+// kept terms are drawn on the whole record under the search's final calibration, those of the
+// residual tests on the whole record under the trained model, with the modes and residuals the
+// tests ran on. Throws core::Error naming the directory when it cannot be made, and whatever
+// training, testing or the renderer throws. Progress on stderr when show_progress.
 void write_diagnosis_report(const std::string& directory, const calibration::MeasuredData& measured,
                             const calibration::TrainSettings& settings,
-                            const nlohmann::json& diagnosis, const core::Calibration& diagnosed,
-                            const core::Diagnosis& residual_diagnosis, const ReportSettings& report,
+                            const DiagnosisOutcome& diagnosis, const ReportSettings& report,
                             bool show_progress);
 
 }  // namespace tofcomp::cli

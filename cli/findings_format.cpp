@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "core/effect_grammar.hpp"
 
 namespace tofcomp::cli {
 namespace {
@@ -10,18 +11,49 @@ bool any_significant(const core::Diagnosis& d) {
   return !d.findings.empty() && d.findings.front().significant;
 }
 
+// The term of the grammar whose effect a residual test looks for.
+nlohmann::json search_effect(core::EffectKind kind) {
+  using core::Covariate;
+  using core::Parameter;
+  const auto name = [](Parameter p, Covariate c) {
+    return nlohmann::json(core::effect_name(core::EffectLabel{p, c}));
+  };
+  switch (kind) {
+    case core::EffectKind::ModePersistence:
+      return name(Parameter::Markov, Covariate::None);
+    case core::EffectKind::TemperatureDependentWeights:
+      return name(Parameter::Weights, Covariate::JunctionTemperature);
+    case core::EffectKind::TemperatureDependentSpread:
+      return name(Parameter::Spread, Covariate::JunctionTemperature);
+    case core::EffectKind::Outliers:
+      return name(Parameter::Outliers, Covariate::None);
+    case core::EffectKind::HeatingHysteresis:
+      return name(Parameter::Bias, Covariate::HeatingRate);
+    case core::EffectKind::TimeDrift:
+      return name(Parameter::Bias, Covariate::Time);
+    case core::EffectKind::WarmUp:
+      return name(Parameter::Bias, Covariate::TimeSincePowerOn);
+    case core::EffectKind::ExtraMode:
+      return name(Parameter::ExtraMode, Covariate::None);
+    case core::EffectKind::SerialDependence:
+      break;
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 nlohmann::json to_json(const core::Diagnosis& d) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& f : d.findings) {
     out.push_back({{"effect", core::effect_name(f.kind)},
-                               {"test", f.test},
-                               {"covariate", f.covariate},
-                               {"statistic", f.result.statistic},
-                               {"p_value", f.result.p_value},
-                               {"z", f.result.z},
-                               {"significant", f.significant}});
+                   {"test", f.test},
+                   {"covariate", f.covariate},
+                   {"statistic", f.result.statistic},
+                   {"p_value", f.result.p_value},
+                   {"z", f.result.z},
+                   {"significant", f.significant},
+                   {"search_effect", search_effect(f.kind)}});
   }
   return out;
 }

@@ -10,8 +10,6 @@
 #include "core/error.hpp"
 #include "core/model_extension.hpp"
 #include "core/model_selection.hpp"
-#include "core/statistical_tests.hpp"
-#include "core/warm_up.hpp"
 #include "io/atomic_file.hpp"
 
 namespace tofcomp::cli {
@@ -180,35 +178,11 @@ void write_error_moments(const std::filesystem::path& directory,
   io::write_file_atomically(directory / "moments.csv", csv);
 }
 
-namespace {
-
-// The warm-up test's curve (see write_diagnosis_samples): the τ of the grid the test took, by the
-// same correlation test, and e's least-squares line on its covariate.
-nlohmann::json warm_up_fit(const Eigen::VectorXd& time_since_power_on_s, const Eigen::VectorXd& e) {
-  if (!(time_since_power_on_s.maxCoeff() > time_since_power_on_s.minCoeff())) return nullptr;
-  double best_tau = core::kWarmUpTimeConstantsS.front();
-  double best_z = -1.0;
-  for (const double tau : core::kWarmUpTimeConstantsS) {
-    const double z =
-        core::correlation_test(core::warm_up_covariate(time_since_power_on_s, tau), e).z;
-    if (z > best_z) best_z = z, best_tau = tau;
-  }
-  const Eigen::ArrayXd c = core::warm_up_covariate(time_since_power_on_s, best_tau).array();
-  const Eigen::ArrayXd dc = c - c.mean();
-  const double sxx = dc.square().sum();
-  const double gamma = sxx > 0.0 ? (dc * (e.array() - e.mean())).sum() / sxx : 0.0;
-  return {{"time_constant_s", best_tau},
-          {"gamma_mm", gamma},
-          {"level_mm", e.mean() - gamma * c.mean()}};
-}
-
-}  // namespace
-
 nlohmann::json write_diagnosis_samples(const std::filesystem::path& directory,
                                        const calibration::MeasuredData& measured,
-                                       const core::Calibration& diagnosed,
+                                       const core::Calibration& trained,
                                        const core::Diagnosis& diagnosis) {
-  const calibration::Compensation compensation = calibration::compensate(measured, diagnosed);
+  const calibration::Compensation compensation = calibration::compensate(measured, trained);
   const Eigen::VectorXd time_since_power_on_s = measured.time_since_power_on();
   const Eigen::VectorXd heating_rate_c_per_min =
       60.0 * core::local_rate(measured.range_time_s, compensation.junction.junction_c,
@@ -229,8 +203,7 @@ nlohmann::json write_diagnosis_samples(const std::filesystem::path& directory,
                        diagnosis.mode[k], diagnosis.compensated[k], heating_rate_c_per_min[k]);
   }
   io::write_file_atomically(directory / "diagnosis_samples.csv", csv);
-  return {{"heating_rate_half_window_s", core::kHeatingRateHalfWindowS},
-          {"warm_up_fit", warm_up_fit(time_since_power_on_s, diagnosis.compensated)}};
+  return {{"heating_rate_half_window_s", core::kHeatingRateHalfWindowS}};
 }
 
 }  // namespace tofcomp::cli

@@ -5,8 +5,8 @@
 //   em_test_cost.csv    measured time of EM testing against the number of samples, for two
 //                       model orders (Fig. 15)
 //   moments.csv         per window length and estimator, the error moments (Fig. 18-19)
-//   diagnosis_samples.csv  the whole record under the calibration the diagnosis ran under, with
-//                       what the diagnosis computed of each range (the findings' figures)
+//   diagnosis_samples.csv  the whole record under the trained model the residual tests ran under,
+//                       with what the tests computed of each range (their evidence figures)
 // The renderer (cli/report/) draws these values; it computes none of them.
 #pragma once
 
@@ -70,19 +70,16 @@ nlohmann::json write_em_test_cost(const std::filesystem::path& directory,
 void write_error_moments(const std::filesystem::path& directory,
                          const std::vector<calibration::WindowEvaluation>& evaluations);
 
-// The findings' figures: diagnosis_samples.csv, the whole record `measured` under `diagnosed`,
-// the calibration `diagnosis` ran under, range by range: the time, the time since the last
-// power-on, y, d, t̂^j, the bias Hθ̂ (an extension's covariate term in it), the residual
-// y − d − Hθ̂, its most probable mode under the mixture (Eq. 18 with the true distance) and
-// e = y − d − Hθ̂ − μ̂ of that mode as the diagnosis computed them, and the junction's heating
-// rate in °C/min as the diagnosis tested it (core::local_rate over ±kHeatingRateHalfWindowS).
-// Returns {heating_rate_half_window_s, warm_up_fit}: the half window of the heating rate, and the
-// warm-up test's curve, e's least-squares fit level + γ·exp(−t_on/τ) for the τ of
-// core::kWarmUpTimeConstantsS whose covariate correlates best with e, as
-// {time_constant_s, gamma_mm, level_mm} (null when the time since power-on does not vary).
+// The residual tests' evidence figures: diagnosis_samples.csv, the whole record `measured` under
+// `trained`, the calibration the tests in `diagnosis` ran under, range by range: the time, the
+// time since the last power-on, y, d, t̂^j, the bias Hθ̂, the residual y − d − Hθ̂, its most
+// probable mode under the mixture (Eq. 18 with the true distance) and e = y − d − Hθ̂ − μ̂ of that
+// mode as the tests computed them, and the junction's heating rate in °C/min as the tests used it
+// (core::local_rate over ±kHeatingRateHalfWindowS). No fitted effect: what the search fitted is in
+// the figures of its terms (cli/search_figure_data.hpp). Returns {heating_rate_half_window_s}.
 nlohmann::json write_diagnosis_samples(const std::filesystem::path& directory,
                                        const calibration::MeasuredData& measured,
-                                       const core::Calibration& diagnosed,
+                                       const core::Calibration& trained,
                                        const core::Diagnosis& diagnosis);
 
 }  // namespace tofcomp::cli

@@ -177,8 +177,10 @@ std::string calibration_text(const core::Calibration& c) {
 }
 
 std::string window_table_text(const std::vector<calibration::WindowEvaluation>& evaluations) {
-  std::string out;
-  out += fmt::format("{:>7} {:>8}  {:<22} {:>9} {:>9} {:>11} {:>9}\n", "window", "windows",
+  std::string out =
+      "mean of y - H theta - sum pi mu: the window mean less the temperature bias and the modes' "
+      "common offset sum_i pi_i mu_i (centred, so that it estimates d)\n";
+  out += fmt::format("{:>7} {:>8}  {:<30} {:>9} {:>9} {:>11} {:>9}\n", "window", "windows",
                      "estimator", "ME mm", "MAE mm", "var|e| mm2", "RMSE mm");
   for (const auto& e : evaluations) {
     if (!e.has_truth) {
@@ -188,10 +190,10 @@ std::string window_table_text(const std::vector<calibration::WindowEvaluation>& 
     }
     const std::pair<const char*, const core::ErrorMoments*> rows[] = {
         {"raw mean (y bar)", &e.raw},
-        {"mean of y - H theta", &e.bias_corrected},
+        {"mean of y - H theta - sum pi mu", &e.bias_corrected},
         {"EM d hat", &e.em}};
     for (const auto& [name, m] : rows) {
-      out += fmt::format("{:>7} {:>8}  {:<22} {:>9.3f} {:>9.3f} {:>11.3f} {:>9.3f}\n", e.window,
+      out += fmt::format("{:>7} {:>8}  {:<30} {:>9.3f} {:>9.3f} {:>11.3f} {:>9.3f}\n", e.window,
                          e.estimates.start.size(), name, m->mean_error, m->mean_absolute_error,
                          m->absolute_error_variance, m->rmse);
     }

@@ -20,7 +20,9 @@ nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluat
 std::string thermal_fit_text(const calibration::ThermalFit& fit);
 std::string calibration_text(const core::Calibration& c);
 // The table of Fig. 18-19: per window length, the three estimators' mean error, mean absolute
-// error, variance of the absolute error and RMSE, and the MAE ratio raw / compensated.
+// error, variance of the absolute error and RMSE, and the MAE ratio raw / compensated. The
+// middle estimator is the mean of y − Hθ̂ centred by the modes' common offset Σ π_i μ_i
+// (core/estimators.hpp); the JSON keeps its key, bias_corrected_mean.
 std::string window_table_text(const std::vector<calibration::WindowEvaluation>& evaluations);
 
 }  // namespace tofcomp::cli

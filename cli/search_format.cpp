@@ -85,11 +85,17 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
   nlohmann::json kept = nlohmann::json::array();
   for (const core::Term& t : search.kept) kept.push_back(label_json(t));
   nlohmann::json base = nlohmann::json::object(), final = nlohmann::json::object(),
-                 bound = nlohmann::json::object();
+                 bound = nlohmann::json::object(), factor = nlohmann::json::object(),
+                 base_over_bound = nlohmann::json::object(),
+                 final_over_bound = nlohmann::json::object();
   for (const auto& e : search.errors) {
-    base[std::to_string(e.window)] = e.before_mae_mm;
-    final[std::to_string(e.window)] = e.after_mae_mm;
-    bound[std::to_string(e.window)] = e.cramer_rao_mae_mm;
+    const std::string w = std::to_string(e.window);
+    base[w] = e.before_mae_mm;
+    final[w] = e.after_mae_mm;
+    bound[w] = e.cramer_rao_mae_mm;
+    factor[w] = e.before_mae_mm / e.after_mae_mm;
+    base_over_bound[w] = e.before_mae_mm / e.cramer_rao_mae_mm;
+    final_over_bound[w] = e.after_mae_mm / e.cramer_rao_mae_mm;
   }
   const calibration::CandidateResult* best =
       search.steps.empty() ? nullptr : search.steps.front().named();
@@ -101,7 +107,9 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
           {"best", best ? label_json(best->term) : nlohmann::json(nullptr)},
           {"kept", kept},
           {"mae_mm", {{"base", base}, {"final", final}}},
-          {"cramer_rao_mae_mm", bound}};
+          {"mae_factor", factor},
+          {"cramer_rao_mae_mm", bound},
+          {"mae_over_cramer_rao", {{"base", base_over_bound}, {"final", final_over_bound}}}};
 }
 
 std::string search_text(const calibration::ModelSearchResult& search,

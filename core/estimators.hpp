@@ -2,7 +2,11 @@
 // and the moments of their errors.
 //   d̂          EM testing (§6, Eq. 21-23) on the window, warm-started from the previous window;
 //   ȳ          the window mean of the raw ranges;
-//   mean(y − Hθ̂)  the window mean corrected by the temperature bias alone.
+//   mean(y − Hθ̂) − Σπ_iμ_i  the window mean corrected by the temperature bias and centred: less
+//                 the modes' common offset Σ_i π_i μ_i, which the paper's mean of y − Hθ̂ keeps
+//                 (so that it reads worse than the raw mean whenever the offset is larger than
+//                 the bias left in ȳ). It is where EM testing starts (core/em_test.hpp): d̂ before
+//                 the modes are assigned.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,7 +24,10 @@ struct WindowEstimates {
   Eigen::VectorXd em_distance;      // d̂
   Eigen::VectorXd em_distance_std;
   Eigen::VectorXd raw_mean;             // ȳ
-  Eigen::VectorXd bias_corrected_mean;  // mean of y − Hθ̂
+  // mean of y − Hθ̂ − Σ_i π_i μ_i: centred by the modes' common offset (with an extended mixture,
+  // each range's Σ_i π_{s,i} (μ_i + its shift) under its noise state; the outlier component left
+  // aside)
+  Eigen::VectorXd bias_corrected_mean;
 };
 
 // Every window of `window` consecutive samples starting at 0, stride, 2·stride, ... that fits

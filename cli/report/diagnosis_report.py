@@ -35,6 +35,7 @@ def render(directory, quiet):
     from report_data import ReportInputError, load_report_data
     from report_figures import draw_figures
     from report_figures_findings import draw_finding_figures
+    from report_figures_terms import draw_term_figures
     from report_html import write_page
 
     try:
@@ -46,12 +47,13 @@ def render(directory, quiet):
         if not quiet:
             print(f"report: {message}", file=sys.stderr, flush=True)
 
+    term_figures = draw_term_figures(data, directory, lambda m: progress(f"drawing {m}"))
     figures, skipped = draw_figures(data, directory, lambda m: progress(f"drawing {m}"))
     finding_figures = draw_finding_figures(data, directory, lambda m: progress(f"drawing {m}"))
     page = os.path.join(directory, "index.html")
-    write_page(page, data, figures, skipped, finding_figures)
-    progress(f"wrote {page} with {len(figures)} figures of the paper and "
-             f"{len(finding_figures)} of the findings")
+    write_page(page, data, figures, skipped, finding_figures, term_figures)
+    progress(f"wrote {page} with {len(term_figures)} figures of the search's terms, "
+             f"{len(figures)} of the paper and {len(finding_figures)} of the residual tests")
     return 0
 
 

@@ -64,7 +64,9 @@ class ReportData:
     context: dict
     diagnosis: dict
     samples: dict
-    diagnosis_samples: dict  # the whole record under the calibration the diagnosis ran under
+    diagnosis_samples: dict  # the whole record under the trained model the tests ran under
+    search_residuals: dict  # the whole record under the search's final calibration
+    search_terms: list  # the figures of the search's terms: context's entry with its tables
     windows: dict = field(default_factory=dict)  # window length -> table
     thermal_fit: dict = None
     em_convergence: dict = None
@@ -88,7 +90,14 @@ def load_report_data(directory):
     if "diagnosis_samples" not in context:
         raise ReportInputError(f"{context_path}: no diagnosis_samples (what the C++ side "
                                f"computed for the findings' figures)")
-    diagnosis = read_json(os.path.join(data_dir, "diagnosis.json"))
+    diagnosis_path = os.path.join(data_dir, "diagnosis.json")
+    diagnosis = read_json(diagnosis_path)
+    if not isinstance(diagnosis.get("search"), dict):
+        raise ReportInputError(f"{diagnosis_path}: no search (the JSON of `tofcomp diagnose "
+                               f"--json` has the model search under \"search\")")
+    if "search_terms" not in context:
+        raise ReportInputError(f"{context_path}: no search_terms (what the C++ side computed "
+                               f"for the figures of the search's terms)")
     samples_path = os.path.join(data_dir, "samples.csv")
     samples = read_table(samples_path)
     require_columns(samples, samples_path,
@@ -100,6 +109,10 @@ def load_report_data(directory):
                     ["time_s", "time_since_power_on_s", "range_mm", "true_range_mm",
                      "junction_c", "bias_mm", "residual_mm", "mode", "e_mm",
                      "heating_rate_c_per_min"])
+    search_residuals_path = os.path.join(data_dir, "search_residuals.csv")
+    search_residuals = read_table(search_residuals_path)
+    require_columns(search_residuals, search_residuals_path,
+                    ["time_s", "residual_mm", "mode", "e_mm"])
     windows = {}
     for length in sorted(set(context.get("windows", [])) | set(context.get("moment_windows", []))):
         table = _optional_table(data_dir, f"windows_{length}.csv")
@@ -111,6 +124,8 @@ def load_report_data(directory):
         diagnosis=diagnosis,
         samples=samples,
         diagnosis_samples=diagnosis_samples,
+        search_residuals=search_residuals,
+        search_terms=[_term_tables(data_dir, entry) for entry in context["search_terms"]],
         windows=windows,
         thermal_fit=_optional_table(data_dir, "thermal_fit.csv"),
         em_convergence=_optional_table(data_dir, "em_convergence.csv"),
@@ -119,6 +134,28 @@ def load_report_data(directory):
         em_test_cost=_optional_table(data_dir, "em_test_cost.csv"),
         moments=_optional_table(data_dir, "moments.csv"),
     )
+
+
+# The columns of each table of a term's figure (cli/term_figure_tables.hpp).
+TERM_COLUMNS = {
+    "ranges": ["covariate", "partial_residual_mm", "mode", "in_term"],
+    "curve": ["covariate", "fitted_mm"],
+    "bins": ["bin", "low", "high", "covariate_mean", "mode", "ranges", "observed", "fitted",
+             "held"],
+    "runs": ["mode", "length", "observed", "chain", "independent"],
+    "density": ["residual_mm", "total"],
+}
+
+
+def _term_tables(data_dir, entry):
+    """The context's entry of one term with its tables read: entry["tables"][kind] = table."""
+    tables = {}
+    for kind, name in (entry.get("files") or {}).items():
+        path = os.path.join(data_dir, name)
+        table = read_table(path)
+        require_columns(table, path, TERM_COLUMNS.get(kind, []))
+        tables[kind] = table
+    return dict(entry, tables=tables)
 
 
 def mode_count(samples):

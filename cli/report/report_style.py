@@ -1,8 +1,10 @@
 """What every figure of the diagnosis report shares: matplotlib on the Agg backend (no display),
 one style, the colours of the lasing modes and of the three estimators of §8.4, the Figure a
-drawing function returns, and small helpers on the report's tables.
+drawing function returns, and small helpers on the report's tables (histogram bins, equal-count
+bins and binned means with their 95 % intervals: summaries of the data, not of a model).
 """
 
+import math
 import os
 from dataclasses import dataclass
 
@@ -16,7 +18,8 @@ DPI = 110
 MODE_COLOURS = ["#1f4e9c", "#d1495b", "#2a9d8f", "#e9a03b"]
 ESTIMATORS = [  # the three estimators of §8.4, Fig. 17-19
     ("raw_mean", r"$\bar{y}$ (window mean of raw ranges)", "#d1495b"),
-    ("bias_corrected_mean", r"$\overline{y - H\hat{\theta}}$ (temperature bias removed)",
+    ("bias_corrected_mean",
+     r"$\overline{y - H\hat{\theta}} - \sum_i \hat{\pi}_i \hat{\mu}_i$ (bias removed, centred)",
      "#e9a03b"),
     ("em_distance", r"$\hat{d}$ (EM testing, §6)", "#1f4e9c"),
 ]
@@ -79,3 +82,23 @@ def temperature_span(samples):
 def ecdf(values):
     x = np.sort(values)
     return x, np.arange(1, x.size + 1) / x.size
+
+
+def equal_count_edges(x, bins):
+    return np.unique(np.quantile(x, np.linspace(0.0, 1.0, bins + 1)))
+
+
+def binned_means(x, y, edges, least=2):
+    """Bins of x between edges: the mean x, the mean y and its 95 % half-width per bin of at
+    least `least` values (values outside the edges are left out)."""
+    index = np.searchsorted(edges, x, side="right") - 1
+    index[x == edges[-1]] = edges.size - 2
+    centre, mean, half_width = [], [], []
+    for b in range(edges.size - 1):
+        chosen = index == b
+        if chosen.sum() < max(least, 2):
+            continue
+        centre.append(np.mean(x[chosen]))
+        mean.append(np.mean(y[chosen]))
+        half_width.append(1.96 * np.std(y[chosen], ddof=1) / math.sqrt(chosen.sum()))
+    return np.array(centre), np.array(mean), np.array(half_width)
