@@ -69,7 +69,7 @@ struct HeldOutError {
   Eigen::Index windows = 0;
   double before_mae_mm = 0.0;
   double after_mae_mm = 0.0;
-  double cramer_rao_mae_mm = 0.0;  // under the paper's modes as training fitted them
+  double cramer_rao_mae_mm = 0.0;  // under the modes of the model after the term
 };
 
 struct SearchStep {
