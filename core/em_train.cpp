@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/mixture_sweep.hpp"
 #include "core/mode_regression.hpp"
 #include "core/squarem.hpp"
 #include "core/validation.hpp"
@@ -71,13 +72,6 @@ MStepResult paper_m_step(const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen
   out.mixture.mean = ((r.transpose() * residual).array() / mass.array()).matrix();
   update_variances_and_weights(residual, r, floor, false, out.mixture);
   return out;
-}
-
-MStepResult m_step(MStep kind, const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::VectorXd& y,
-                   const Eigen::MatrixXd& r, const Eigen::VectorXd& previous_variance, double floor,
-                   Eigen::MatrixXd& scratch) {
-  return kind == MStep::Exact ? exact_m_step(h, y, r, previous_variance, floor, scratch)
-                              : paper_m_step(h, y, r, previous_variance, floor, scratch);
 }
 
 // Eq. 20.
@@ -244,11 +238,12 @@ bool modes_populated(const Eigen::MatrixXd& r, double min_weight) {
   return ((r.colwise().sum().array() / k) >= min_weight).all();
 }
 
-// A point of the iteration: parameters, and the E-step at them.
+// A point of the iteration: parameters, and the E-step at them (with the exact step's sums).
 struct Point {
   MStepResult parameters;
   Eigen::MatrixXd responsibilities;
   double log_likelihood = 0.0;
+  ExactStepSums sums;
 };
 
 // The iteration's bookkeeping: the point it stands at, the stopping rule, the trace.
@@ -324,12 +319,22 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
                             : quantile_initialization(h, y, options.modes, floor, scratch);
 
   EmTrainResult result;
+  const bool exact = options.m_step == MStep::Exact;
+  // H is centred on the weighted mean of the last sweep (any centre gives the same step).
+  Eigen::RowVectorXd centre = h.colwise().mean();
   const auto evaluate = [&](MStepResult parameters) {
     Point out;
     out.parameters = std::move(parameters);
-    // E-step (Eq. 18) at the parameters.
-    out.log_likelihood =
-        mixture_e_step(y - h * out.parameters.theta, out.parameters.mixture, out.responsibilities);
+    // E-step (Eq. 18) at the parameters; for the exact step fused with its weighted sums.
+    if (exact) {
+      out.sums = exact_step_sweep(h, y, out.parameters.theta, out.parameters.mixture, centre,
+                                  out.responsibilities);
+      out.log_likelihood = out.sums.log_likelihood;
+      centre = out.sums.weighted_mean();
+    } else {
+      out.log_likelihood = mixture_e_step(y - h * out.parameters.theta, out.parameters.mixture,
+                                          out.responsibilities);
+    }
     ++result.likelihood_evaluations;
     return out;
   };
@@ -337,14 +342,18 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
   const auto step = [&](const Point& from) {
     require_modes_populated(from.responsibilities, options.min_mode_weight, result.iterations + 1);
     ++result.iterations;
-    return m_step(options.m_step, h, y, from.responsibilities, from.parameters.mixture.variance,
-                  floor, scratch);
+    if (!exact) {
+      return paper_m_step(h, y, from.responsibilities, from.parameters.mixture.variance, floor,
+                          scratch);
+    }
+    MStepResult next;
+    exact_step_solve(h, y, from.sums, from.responsibilities, floor, next.theta, next.mixture);
+    return next;
   };
 
   Iteration iteration(options, k, result);
   iteration.arrive(evaluate(std::move(current)));
-  const bool accelerate =
-      options.acceleration == EmAcceleration::Squarem && options.m_step == MStep::Exact;
+  const bool accelerate = options.acceleration == EmAcceleration::Squarem && exact;
   SquaremSteps steps;
   const Eigen::Index p = h.cols();
   const int modes = options.modes;
