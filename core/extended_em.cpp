@@ -18,14 +18,18 @@ constexpr double kMinimumMass = 1e-9;
 constexpr double kMinimumOutlierWeight = 1e-12;
 constexpr double kMaximumOutlierWeight = 0.5;
 
-// w_ki = r_ki / σ²_{s(k),i}: the weights of the mean-structure and d steps.
+// w_ki = r_ki / σ²_{s(k),i}: the weights of the mean-structure and d steps; per mode a column
+// product, with each range's spread bin gathered only when the spreads are binned.
 Eigen::MatrixXd precision_weights(const Eigen::MatrixXd& r, const Eigen::VectorXi& state,
                                   const ExtendedMixture& m) {
+  const int variance_states = m.variance_states();
+  if (variance_states == 1) return r * m.modes.variance.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd precision = m.variance_bins->table.cwiseInverse();  // bins × M
   Eigen::MatrixXd w(r.rows(), r.cols());
-  for (Eigen::Index k = 0; k < r.rows(); ++k) {
-    for (Eigen::Index i = 0; i < r.cols(); ++i) {
-      w(k, i) = r(k, i) / m.variance(state[k], static_cast<int>(i));
-    }
+  Eigen::ArrayXd gathered(r.rows());
+  for (Eigen::Index i = 0; i < r.cols(); ++i) {
+    for (Eigen::Index k = 0; k < r.rows(); ++k) gathered[k] = precision(state[k] % variance_states, i);
+    w.col(i) = (r.col(i).array() * gathered).matrix();
   }
   return w;
 }
@@ -44,19 +48,31 @@ void update_noise(const Eigen::VectorXd& e, const Eigen::MatrixXd& shift,
                   ExtendedMixture& m) {
   const int modes = m.modes.modes();
   const int variance_states = m.variance_states();
-  Eigen::MatrixXd weight_mass = Eigen::MatrixXd::Zero(m.weight_states(), modes);
+  const int weight_states = m.weight_states();
+  Eigen::MatrixXd weight_mass = Eigen::MatrixXd::Zero(weight_states, modes);
   Eigen::MatrixXd variance_mass = Eigen::MatrixXd::Zero(variance_states, modes);
   Eigen::MatrixXd square = Eigen::MatrixXd::Zero(variance_states, modes);
   const bool shifted = shift.size() > 0;
-  for (Eigen::Index k = 0; k < e.size(); ++k) {
-    const int weight_bin = state[k] / variance_states;
-    const int variance_bin = state[k] % variance_states;
-    for (int i = 0; i < modes; ++i) {
-      const double centred = e[k] - m.modes.mean[i] - (shifted ? shift(k, i) : 0.0);
-      const double resp = r.mode(k, i);
-      weight_mass(weight_bin, i) += resp;
-      variance_mass(variance_bin, i) += resp;
-      square(variance_bin, i) += resp * centred * centred;
+  Eigen::ArrayXd weighted_square(e.size());
+  for (int i = 0; i < modes; ++i) {
+    // r_ki (e_k − μ_i − s_ki)² on arrays; summed per bin only where there are bins.
+    const auto resp = r.mode.col(i).array();
+    weighted_square = e.array() - m.modes.mean[i];
+    if (shifted) weighted_square -= shift.col(i).array();
+    weighted_square = resp * weighted_square.square();
+    if (variance_states == 1 && weight_states == 1) {
+      const double mass = resp.sum();
+      weight_mass(0, i) = mass;
+      variance_mass(0, i) = mass;
+      square(0, i) = weighted_square.sum();
+      continue;
+    }
+    for (Eigen::Index k = 0; k < e.size(); ++k) {
+      const int weight_bin = state[k] / variance_states;
+      const int variance_bin = state[k] % variance_states;
+      weight_mass(weight_bin, i) += resp[k];
+      variance_mass(variance_bin, i) += resp[k];
+      square(variance_bin, i) += weighted_square[k];
     }
   }
   const Eigen::RowVectorXd mode_mass = variance_mass.colwise().sum();
