@@ -145,7 +145,9 @@ PY
 python3 - "$work/diagnosis.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
-assert d["named"] == "time drift" and d["extension"]["kept"], d
+# The time drift the scenario carries is named first; a later step may keep more (with the
+# search's fits converged, a warm-up decay passes on this record: it lowers d hat's held-out error).
+assert d["named"].split(", ")[0] == "time drift" and d["extension"]["kept"], d
 assert len(d["findings"]) == 9, d  # so the page above carries all nine finding figures
 PY
 
