@@ -13,6 +13,9 @@ namespace {
 // Ranges per chunk: a chunk's arrays (a few columns of this many doubles) stay in the L1/L2
 // cache, and the per-chunk matrix products are long enough to run at speed.
 constexpr Eigen::Index kChunk = 512;
+// Up to this many basis columns the Gram matrix's lower triangle is summed as dot products of the
+// chunk's columns; beyond, a symmetric rank update (a blocked product) is faster.
+constexpr Eigen::Index kDotGramColumns = 24;
 
 }  // namespace
 
@@ -84,16 +87,20 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
     s.mass += r.colwise().sum().transpose();
     s.mode_weight += w.colwise().sum().transpose();
     s.mode_target.noalias() += w.transpose().lazyProduct(y.segment(first, n));
-    // x_k = √t_k (H_k − c) in one pass; then Σ_k w_ki (H_k − c) = xᵀ (w_i / √t), and the Gram
-    // matrix and its right-hand side as dot products of x's columns (the chunk is in cache).
+    // x_k = √t_k (H_k − c) in one pass; then Σ_k w_ki (H_k − c) = xᵀ (w_i / √t), the Gram
+    // matrix and its right-hand side (the chunk is in cache).
     root_t = root_t.sqrt();
     auto x = centred.topRows(n);
     x = (h_chunk.rowwise() - centre).array().colwise() * root_t;
     auto w_over_root = w.array().colwise() / root_t;
     w = w_over_root.matrix();
     s.mode_sums.noalias() += x.transpose().lazyProduct(w);
-    for (Eigen::Index j = 0; j < p; ++j) {
-      for (Eigen::Index i = j; i < p; ++i) s.gram(i, j) += x.col(i).dot(x.col(j));
+    if (p <= kDotGramColumns) {
+      for (Eigen::Index j = 0; j < p; ++j) {
+        for (Eigen::Index i = j; i < p; ++i) s.gram(i, j) += x.col(i).dot(x.col(j));
+      }
+    } else {
+      s.gram.selfadjointView<Eigen::Lower>().rankUpdate(x.transpose());
     }
     s.gram_rhs.noalias() += x.transpose().lazyProduct((root_t * y_chunk).matrix());
   }
