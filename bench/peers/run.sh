@@ -51,8 +51,13 @@ for k in ${sizes//,/ }; do
         "tofcomp -march=${arch:-default}" | tee -a "$results"
     fi
     "${peer_env[@]}" "$python" "$here/em_numpy.py" "$work" "$case" "$iterations" "$repeats" | tee -a "$results"
-    "${peer_env[@]}" Rscript "$here/em_flexmix.R" "$work" "$case" "$iterations" "$flexmix_tolerance" 100000 \
-      | tee -a "$results"
+    # A peer that fails is reported and left out of the table, the run goes on.
+    if ! "${peer_env[@]}" Rscript "$here/em_flexmix.R" "$work" "$case" "$iterations" \
+        "$flexmix_tolerance" 100000 >"$work/flexmix.out" 2>"$work/flexmix.err"; then
+      echo "flexmix failed on $case:" >&2
+      cat "$work/flexmix.err" >&2
+    fi
+    tee -a "$results" <"$work/flexmix.out"
   done
 done
 "$python" "$here/compare.py" "$results"
