@@ -147,7 +147,9 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 # The time drift the scenario carries is named first; a later step may keep more (with the
 # search's fits converged, a warm-up decay passes on this record: it lowers d hat's held-out error).
-assert d["named"].split(", ")[0] == "time drift" and d["extension"]["kept"], d
+# (The kept terms are under "search" since the model search of issue 14; "extension" was gone.)
+assert d["named"].split(", ")[0] == "time drift" and d["search"]["kept"], d
+assert d["search"]["kept"][0]["effect"] == "time drift", d["search"]["kept"]
 assert len(d["findings"]) == 9, d  # so the page above carries all nine finding figures
 PY
 
