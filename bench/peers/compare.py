@@ -23,6 +23,8 @@ def main(path):
     print(header)
     for c in cases:
         by = {r["peer"]: r for r in rows if r["case"] == c}
+        by.setdefault("flexmix", {"s_per_iteration": float("nan"), "iterations": 0,
+                                  "log_likelihood": float("nan"), "fit_s": float("nan")})
         n, f = (by[p]["s_per_iteration"] * 1e3 for p in ("numpy", "flexmix"))
         line = f"{c:>13} {n:8.3f} {f:8.2f}"
         for b in builds:
@@ -34,6 +36,8 @@ def main(path):
           "and that time over tofcomp's SQUAREM fit (the first build):")
     for c in cases:
         by = {r["peer"]: r for r in rows if r["case"] == c}
+        by.setdefault("flexmix", {"iterations": 0, "log_likelihood": float("nan"),
+                                  "fit_s": float("nan")})
         fits = []
         for b in builds:
             t = by[b]
@@ -47,7 +51,7 @@ def main(path):
                      by["numpy"]["log_likelihood"], by["numpy"]["fit_s"]))
         fits.append(("flexmix", by["flexmix"]["iterations"], by["flexmix"]["iterations"],
                      by["flexmix"]["log_likelihood"], by["flexmix"]["fit_s"]))
-        best = max(f[3] for f in fits)
+        best = max(f[3] for f in fits if f[3] == f[3])
         reference = fits[0][4]
         print(f"  {c}")
         for name, iters, e_steps, loglik, seconds in fits:
