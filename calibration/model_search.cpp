@@ -110,11 +110,16 @@ Folds make_folds(const Eigen::VectorXd& junction_c, const std::vector<Eigen::Ind
   return f;
 }
 
+// A fit to convergence (kFitIterations) runs SQUAREM; the short fits of a time constant's
+// profile and of the starts (a few EM steps each, to rank them) run plain EM, so that "a few
+// steps" means what it always did.
 core::ExtendedEmOptions em_options(double variance_floor, int iterations) {
   core::ExtendedEmOptions o;
   o.log_likelihood_tolerance = kFitTolerancePerRange;
   o.max_iterations = iterations;
   o.variance_floor = variance_floor;
+  o.acceleration =
+      iterations < kFitIterations ? core::EmAcceleration::None : core::EmAcceleration::Squarem;
   return o;
 }
 

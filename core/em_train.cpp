@@ -4,10 +4,13 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/mixture_sweep.hpp"
 #include "core/mode_regression.hpp"
+#include "core/squarem.hpp"
 #include "core/validation.hpp"
 #include "core/weighted_least_squares.hpp"
 
@@ -69,13 +72,6 @@ MStepResult paper_m_step(const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen
   out.mixture.mean = ((r.transpose() * residual).array() / mass.array()).matrix();
   update_variances_and_weights(residual, r, floor, false, out.mixture);
   return out;
-}
-
-MStepResult m_step(MStep kind, const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::VectorXd& y,
-                   const Eigen::MatrixXd& r, const Eigen::VectorXd& previous_variance, double floor,
-                   Eigen::MatrixXd& scratch) {
-  return kind == MStep::Exact ? exact_m_step(h, y, r, previous_variance, floor, scratch)
-                              : paper_m_step(h, y, r, previous_variance, floor, scratch);
 }
 
 // Eq. 20.
@@ -206,6 +202,100 @@ void sort_modes(EmTrainResult& result) {
   }
 }
 
+// The parameters as one vector in which every point is a valid mixture (core/squarem.hpp):
+// θ, μ, log σ², log(π_i / π_M) for i < M.
+Eigen::VectorXd encode(const MStepResult& x) {
+  const Eigen::Index p = x.theta.size();
+  const int m = x.mixture.modes();
+  Eigen::VectorXd v(p + 3 * m - 1);
+  v.head(p) = x.theta;
+  v.segment(p, m) = x.mixture.mean;
+  v.segment(p + m, m) = x.mixture.variance.array().log().matrix();
+  const double last = std::log(x.mixture.weight[m - 1]);
+  v.tail(m - 1) = (x.mixture.weight.head(m - 1).array().log() - last).matrix();
+  return v;
+}
+
+// The inverse of encode, the variances kept at or above the floor. Empty when a coordinate is
+// not finite.
+std::optional<MStepResult> decode(const Eigen::VectorXd& v, Eigen::Index p, int m, double floor) {
+  if (!v.allFinite()) return std::nullopt;
+  MStepResult x;
+  x.theta = v.head(p);
+  x.mixture.mean = v.segment(p, m);
+  x.mixture.variance = v.segment(p + m, m).array().exp().max(floor).matrix();
+  Eigen::VectorXd log_ratio(m);
+  log_ratio.head(m - 1) = v.tail(m - 1);
+  log_ratio[m - 1] = 0.0;
+  const Eigen::ArrayXd w = (log_ratio.array() - log_ratio.maxCoeff()).exp();
+  x.mixture.weight = (w / w.sum()).matrix();
+  if (!x.mixture.variance.allFinite()) return std::nullopt;
+  return x;
+}
+
+bool modes_populated(const Eigen::MatrixXd& r, double min_weight) {
+  const double k = static_cast<double>(r.rows());
+  return ((r.colwise().sum().array() / k) >= min_weight).all();
+}
+
+// A point of the iteration: parameters, and the E-step at them (with the exact step's sums).
+struct Point {
+  MStepResult parameters;
+  Eigen::MatrixXd responsibilities;
+  double log_likelihood = 0.0;
+  ExactStepSums sums;
+};
+
+// The iteration's bookkeeping: the point it stands at, the stopping rule, the trace.
+class Iteration {
+ public:
+  Iteration(const EmTrainOptions& options, Eigen::Index k, EmTrainResult& result)
+      : options_(options), k_(static_cast<double>(k)), result_(result) {}
+
+  // Moves to `next` (its E-step done) and records it.
+  void arrive(Point&& next) {
+    if (has_point_) {
+      weight_change_ =
+          (next.parameters.mixture.weight - point_.parameters.mixture.weight).cwiseAbs().maxCoeff();
+      previous_log_likelihood_ = point_.log_likelihood;
+    }
+    point_ = std::move(next);
+    has_point_ = true;
+    if (options_.record_trace) {
+      const MixtureParameters& m = point_.parameters.mixture;
+      result_.trace.push_back({m.mean, m.variance, m.weight, point_.log_likelihood});
+    }
+  }
+  // The paper's rule on the weights, and the log-likelihood's change per range.
+  bool converged() const {
+    const bool likelihood_settled =
+        options_.log_likelihood_tolerance == 0.0 ||
+        std::abs(point_.log_likelihood - previous_log_likelihood_) <=
+            options_.log_likelihood_tolerance * k_;
+    return weight_change_ < options_.weight_tolerance && likelihood_settled;
+  }
+  bool at_cap() const { return result_.iterations >= options_.max_iterations; }
+  // Stops when converged or at the iteration cap.
+  bool done() {
+    if (converged()) {
+      result_.converged = true;
+      return true;
+    }
+    return at_cap();
+  }
+  const Point& point() const { return point_; }
+  Point take() { return std::move(point_); }
+
+ private:
+  const EmTrainOptions& options_;
+  double k_;
+  EmTrainResult& result_;
+  Point point_;
+  bool has_point_ = false;
+  double previous_log_likelihood_ = -std::numeric_limits<double>::infinity();
+  double weight_change_ = std::numeric_limits<double>::infinity();
+};
+
 }  // namespace
 
 EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
@@ -229,37 +319,86 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
                             : quantile_initialization(h, y, options.modes, floor, scratch);
 
   EmTrainResult result;
-  double previous_log_likelihood = -std::numeric_limits<double>::infinity();
-  double weight_change = std::numeric_limits<double>::infinity();
-  for (int iteration = 1;; ++iteration) {
-    // E-step (Eq. 18) at the current parameters.
-    const double log_likelihood =
-        mixture_e_step(y - h * current.theta, current.mixture, result.responsibilities);
-    if (options.record_trace) {
-      result.trace.push_back(
-          {current.mixture.mean, current.mixture.variance, current.mixture.weight, log_likelihood});
+  const bool exact = options.m_step == MStep::Exact;
+  // H is centred on the weighted mean of the last sweep (any centre gives the same step).
+  Eigen::RowVectorXd centre = h.colwise().mean();
+  const auto evaluate = [&](MStepResult parameters) {
+    Point out;
+    out.parameters = std::move(parameters);
+    // E-step (Eq. 18) at the parameters; for the exact step fused with its weighted sums.
+    if (exact) {
+      out.sums = exact_step_sweep(h, y, out.parameters.theta, out.parameters.mixture, centre,
+                                  out.responsibilities);
+      out.log_likelihood = out.sums.log_likelihood;
+      centre = out.sums.weighted_mean();
+    } else {
+      out.log_likelihood = mixture_e_step(y - h * out.parameters.theta, out.parameters.mixture,
+                                          out.responsibilities);
     }
-    const bool likelihood_settled = options.log_likelihood_tolerance == 0.0 ||
-                                    std::abs(log_likelihood - previous_log_likelihood) <=
-                                        options.log_likelihood_tolerance * static_cast<double>(k);
-    if (weight_change < options.weight_tolerance && likelihood_settled) {
-      result.converged = true;
-      result.log_likelihood = log_likelihood;
-      break;
-    }
-    if (result.iterations == options.max_iterations) {
-      result.log_likelihood = log_likelihood;
-      break;
-    }
-    require_modes_populated(result.responsibilities, options.min_mode_weight, iteration);
-    // M-step (Eq. 19).
-    MStepResult next = m_step(options.m_step, h, y, result.responsibilities,
-                              current.mixture.variance, floor, scratch);
-    weight_change = (next.mixture.weight - current.mixture.weight).cwiseAbs().maxCoeff();
-    previous_log_likelihood = log_likelihood;
-    current = std::move(next);
+    ++result.likelihood_evaluations;
+    return out;
+  };
+  // M-step (Eq. 19) from a point whose E-step is done.
+  const auto step = [&](const Point& from) {
+    require_modes_populated(from.responsibilities, options.min_mode_weight, result.iterations + 1);
     ++result.iterations;
+    if (!exact) {
+      return paper_m_step(h, y, from.responsibilities, from.parameters.mixture.variance, floor,
+                          scratch);
+    }
+    MStepResult next;
+    exact_step_solve(h, y, from.sums, from.responsibilities, floor, next.theta, next.mixture);
+    return next;
+  };
+
+  Iteration iteration(options, k, result);
+  iteration.arrive(evaluate(std::move(current)));
+  const bool accelerate = options.acceleration == EmAcceleration::Squarem && exact;
+  SquaremSteps steps;
+  const Eigen::Index p = h.cols();
+  const int modes = options.modes;
+  while (!iteration.done()) {
+    if (!accelerate) {
+      iteration.arrive(evaluate(step(iteration.point())));
+      continue;
+    }
+    // SQUAREM: two EM steps x0 → x1 → x2, then the extrapolated point, kept when valid and not
+    // below x1's log-likelihood; x2 otherwise.
+    const Eigen::VectorXd x0 = encode(iteration.point().parameters);
+    iteration.arrive(evaluate(step(iteration.point())));
+    if (iteration.done()) break;
+    const Eigen::VectorXd x1 = encode(iteration.point().parameters);
+    const double x1_log_likelihood = iteration.point().log_likelihood;
+    MStepResult x2 = step(iteration.point());
+    const Eigen::VectorXd r = x1 - x0;
+    const Eigen::VectorXd v = encode(x2) - x1 - r;
+    const double alpha = steps.step_length(r, v);
+    if (alpha > 1.0) {
+      if (std::optional<MStepResult> jump =
+              decode(SquaremSteps::extrapolate(x0, r, v, alpha), p, modes, floor)) {
+        std::optional<Point> tried;
+        try {
+          tried = evaluate(std::move(*jump));
+        } catch (const NumericalError&) {
+          // A non-finite likelihood at the extrapolated point: refused below.
+        }
+        if (tried && tried->log_likelihood >= x1_log_likelihood &&
+            modes_populated(tried->responsibilities, options.min_mode_weight)) {
+          steps.accepted(alpha);
+          iteration.arrive(std::move(*tried));
+          continue;
+        }
+      }
+      steps.refused(alpha);
+    } else {
+      steps.accepted(alpha);
+    }
+    iteration.arrive(evaluate(std::move(x2)));
   }
+  Point last = iteration.take();
+  result.log_likelihood = last.log_likelihood;
+  result.responsibilities = std::move(last.responsibilities);
+  current = std::move(last.parameters);
   result.theta = std::move(current.theta);
   result.mixture = std::move(current.mixture);
   sort_modes(result);

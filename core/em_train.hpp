@@ -11,6 +11,8 @@
 //     and without the mode offsets), μ_i the weighted mean of ỹ − Hθ, σ_i² its weighted second
 //     moment (μ_i not subtracted), π_i the mean responsibility. It is not a maximization step,
 //     so its likelihood may decrease; docs/em-m-step.md shows where the two differ.
+// Acceleration: SQUAREM (EmTrainOptions::acceleration) extrapolates along two exact steps and
+// keeps the extrapolated point only when its likelihood is not lower (core/squarem.hpp).
 // Cost per iteration: O(K·p²) time (one weighted Gram matrix) and O(K·p + K·M) memory.
 #pragma once
 
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include "core/gaussian_mixture.hpp"
+#include "core/squarem.hpp"
 
 namespace tofcomp::core {
 
@@ -56,6 +59,9 @@ struct EmTrainOptions {
   // show M modes.
   double min_mode_weight = 1e-3;
   bool record_trace = true;
+  // SQUAREM (core/squarem.hpp) on the exact step: the same fixed point in far fewer iterations.
+  // MStep::PaperAsPrinted always runs plain EM: it is not a maximization step.
+  EmAcceleration acceleration = EmAcceleration::Squarem;
   // When set, EM starts here instead of at `initialization`; its mixture must have `modes` modes.
   std::optional<EmStartingPoint> start;
 };
@@ -73,8 +79,11 @@ struct EmTrainResult {
   MixtureParameters mixture;         // modes sorted by increasing mean
   Eigen::MatrixXd responsibilities;  // K × M, r_ki at the final parameters (Δ̂ of Eq. 18)
   double log_likelihood = 0.0;       // at the final parameters
-  int iterations = 0;
+  int iterations = 0;             // M-steps (applications of the EM map)
+  int likelihood_evaluations = 0;  // E-steps; under SQUAREM also the extrapolated points tried
   bool converged = false;
+  // One row per point the iteration moved to (under SQUAREM: the EM points and the extrapolated
+  // points kept); the log-likelihood never decreases along it for MStep::Exact.
   std::vector<EmIterationRecord> trace;
 };
 

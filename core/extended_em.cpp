@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "core/covariate_table.hpp"
@@ -25,14 +26,18 @@ constexpr int kSlopeNewtonSteps = 25;
 constexpr int kSlopeHalvings = 30;
 constexpr double kSlopeTolerance = 1e-10;
 
-// w_ki = r_ki / σ²_{s(k),i}: the weights of the mean-structure and d steps.
+// w_ki = r_ki / σ²_{s(k),i}: the weights of the mean-structure and d steps; per mode a column
+// product, with each range's spread bin gathered only when the spreads are binned.
 Eigen::MatrixXd precision_weights(const Eigen::MatrixXd& r, const Eigen::VectorXi& state,
                                   const ExtendedMixture& m) {
+  const int variance_states = m.variance_states();
+  if (variance_states == 1) return r * m.modes.variance.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd precision = m.variance_bins->table.cwiseInverse();  // bins × M
   Eigen::MatrixXd w(r.rows(), r.cols());
-  for (Eigen::Index k = 0; k < r.rows(); ++k) {
-    for (Eigen::Index i = 0; i < r.cols(); ++i) {
-      w(k, i) = r(k, i) / m.variance(state[k], static_cast<int>(i));
-    }
+  Eigen::ArrayXd gathered(r.rows());
+  for (Eigen::Index i = 0; i < r.cols(); ++i) {
+    for (Eigen::Index k = 0; k < r.rows(); ++k) gathered[k] = precision(state[k] % variance_states, i);
+    w.col(i) = (r.col(i).array() * gathered).matrix();
   }
   return w;
 }
@@ -157,19 +162,31 @@ void update_noise(const Eigen::VectorXd& e, const Eigen::MatrixXd& shift,
                   ExtendedMixture& m) {
   const int modes = m.modes.modes();
   const int variance_states = m.variance_states();
-  Eigen::MatrixXd weight_mass = Eigen::MatrixXd::Zero(m.weight_states(), modes);
+  const int weight_states = m.weight_states();
+  Eigen::MatrixXd weight_mass = Eigen::MatrixXd::Zero(weight_states, modes);
   Eigen::MatrixXd variance_mass = Eigen::MatrixXd::Zero(variance_states, modes);
   Eigen::MatrixXd square = Eigen::MatrixXd::Zero(variance_states, modes);
   const bool shifted = shift.size() > 0;
-  for (Eigen::Index k = 0; k < e.size(); ++k) {
-    const int weight_bin = state[k] / variance_states;
-    const int variance_bin = state[k] % variance_states;
-    for (int i = 0; i < modes; ++i) {
-      const double centred = e[k] - m.modes.mean[i] - (shifted ? shift(k, i) : 0.0);
-      const double resp = r.mode(k, i);
-      weight_mass(weight_bin, i) += resp;
-      variance_mass(variance_bin, i) += resp;
-      square(variance_bin, i) += resp * centred * centred;
+  Eigen::ArrayXd weighted_square(e.size());
+  for (int i = 0; i < modes; ++i) {
+    // r_ki (e_k − μ_i − s_ki)² on arrays; summed per bin only where there are bins.
+    const auto resp = r.mode.col(i).array();
+    weighted_square = e.array() - m.modes.mean[i];
+    if (shifted) weighted_square -= shift.col(i).array();
+    weighted_square = resp * weighted_square.square();
+    if (variance_states == 1 && weight_states == 1) {
+      const double mass = resp.sum();
+      weight_mass(0, i) = mass;
+      variance_mass(0, i) = mass;
+      square(0, i) = weighted_square.sum();
+      continue;
+    }
+    for (Eigen::Index k = 0; k < e.size(); ++k) {
+      const int weight_bin = state[k] / variance_states;
+      const int variance_bin = state[k] % variance_states;
+      weight_mass(weight_bin, i) += resp[k];
+      variance_mass(variance_bin, i) += resp[k];
+      square(variance_bin, i) += weighted_square[k];
     }
   }
   const Eigen::RowVectorXd mode_mass = variance_mass.colwise().sum();
@@ -235,6 +252,87 @@ void validate_design(const ExtendedDesign& design, Eigen::Index k,
   }
 }
 
+// Row-wise log-ratios log(a_rc / a_r,last) of a row-stochastic table, appended to out.
+void append_log_ratios(const Eigen::MatrixXd& table, std::vector<double>& out) {
+  for (Eigen::Index r = 0; r < table.rows(); ++r) {
+    const double last = std::log(table(r, table.cols() - 1));
+    for (Eigen::Index c = 0; c + 1 < table.cols(); ++c) out.push_back(std::log(table(r, c)) - last);
+  }
+}
+
+// The inverse: each row the softmax of its log-ratios and a zero.
+void read_log_ratios(const double*& in, Eigen::MatrixXd& table) {
+  for (Eigen::Index r = 0; r < table.rows(); ++r) {
+    Eigen::ArrayXd row(table.cols());
+    for (Eigen::Index c = 0; c + 1 < table.cols(); ++c) row[c] = *in++;
+    row[table.cols() - 1] = 0.0;
+    row = (row - row.maxCoeff()).exp();
+    table.row(r) = (row / row.sum()).matrix().transpose();
+  }
+}
+
+// The parameters as one vector in which every point is a valid model (core/squarem.hpp): θ, the
+// β_i, μ as they are; log variances (per mode and per spread bin); log-ratio weights (per mode,
+// per weight bin) and transition rows; the outlier weight's logit.
+Eigen::VectorXd encode(const ExtendedParameters& x) {
+  std::vector<double> v(x.theta.data(), x.theta.data() + x.theta.size());
+  for (const Eigen::VectorXd& beta : x.mode_coefficients) v.insert(v.end(), beta.data(), beta.data() + beta.size());
+  const ExtendedMixture& m = x.model;
+  v.insert(v.end(), m.modes.mean.data(), m.modes.mean.data() + m.modes.mean.size());
+  for (const double s2 : m.modes.variance) v.push_back(std::log(s2));
+  if (m.variance_bins) {
+    for (const double s2 : m.variance_bins->table.reshaped()) v.push_back(std::log(s2));
+  }
+  append_log_ratios(m.modes.weight.transpose(), v);
+  if (m.weight_bins) append_log_ratios(m.weight_bins->table, v);
+  if (m.transition.size() > 0) append_log_ratios(m.transition, v);
+  if (m.outlier_weight > 0.0) v.push_back(std::log(m.outlier_weight / (1.0 - m.outlier_weight)));
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+// The inverse of encode onto the structure of `like`, variances at or above the floor and the
+// outlier weight inside its bounds. Empty when a coordinate is not finite.
+std::optional<ExtendedParameters> decode(const Eigen::VectorXd& v, const ExtendedParameters& like,
+                                         double floor) {
+  if (!v.allFinite()) return std::nullopt;
+  ExtendedParameters x = like;
+  const double* in = v.data();
+  const auto read = [&](auto& target) {
+    for (auto& value : target.reshaped()) value = *in++;
+  };
+  read(x.theta);
+  for (Eigen::VectorXd& beta : x.mode_coefficients) read(beta);
+  ExtendedMixture& m = x.model;
+  read(m.modes.mean);
+  read(m.modes.variance);
+  m.modes.variance = m.modes.variance.array().exp().max(floor).matrix();
+  if (m.variance_bins) {
+    read(m.variance_bins->table);
+    m.variance_bins->table = m.variance_bins->table.array().exp().max(floor).matrix();
+  }
+  Eigen::MatrixXd weight = m.modes.weight.transpose();
+  read_log_ratios(in, weight);
+  m.modes.weight = weight.transpose();
+  if (m.weight_bins) read_log_ratios(in, m.weight_bins->table);
+  if (m.transition.size() > 0) read_log_ratios(in, m.transition);
+  if (m.outlier_weight > 0.0) {
+    m.outlier_weight =
+        std::clamp(1.0 / (1.0 + std::exp(-*in++)), kMinimumOutlierWeight, kMaximumOutlierWeight);
+  }
+  if (!m.modes.variance.allFinite() ||
+      (m.variance_bins && !m.variance_bins->table.allFinite())) {
+    return std::nullopt;
+  }
+  return x;
+}
+
+// A point of the iteration: parameters and the E-step at them.
+struct Point {
+  ExtendedParameters parameters;
+  ExtendedResponsibilities responsibilities;
+  double log_likelihood = 0.0;
+};
+
 }  // namespace
 
 Eigen::MatrixXd mode_shifts(const ExtendedDesign& design,
@@ -264,35 +362,99 @@ ExtendedEmResult train_extended_em(const ExtendedDesign& design,
   const auto k = static_cast<double>(y.size());
 
   ExtendedEmResult result;
-  result.fit = start;
   Eigen::MatrixXd scratch;
-  double previous = -std::numeric_limits<double>::infinity();
-  for (;;) {
-    const Eigen::MatrixXd shift = mode_shifts(design, result.fit.mode_coefficients);
-    const double log_likelihood =
-        extended_e_step(y - design.shared * result.fit.theta, design.state, shift,
-                        result.fit.model, result.responsibilities);
-    result.log_likelihood_trace.push_back(log_likelihood);
-    result.log_likelihood = log_likelihood;
-    if (std::abs(log_likelihood - previous) <= options.log_likelihood_tolerance * k) {
-      result.converged = true;
-      break;
-    }
-    if (result.iterations == options.max_iterations) break;
-    previous = log_likelihood;
-    // M-step: the mean structure at the previous variances, then the rest of the noise.
+  // E-step at the parameters (the extended mixture's, core/extended_mixture.hpp).
+  const auto evaluate = [&](ExtendedParameters parameters) {
+    Point out;
+    out.parameters = std::move(parameters);
+    const Eigen::MatrixXd shift = mode_shifts(design, out.parameters.mode_coefficients);
+    out.log_likelihood =
+        extended_e_step(y - design.shared * out.parameters.theta, design.state, shift,
+                        out.parameters.model, out.responsibilities);
+    return out;
+  };
+  // M-step from a point: the mean structure at its variances, then the rest of the noise.
+  const auto step = [&](const Point& from) {
+    ExtendedParameters next = from.parameters;
     const Eigen::MatrixXd w =
-        precision_weights(result.responsibilities.mode, design.state, result.fit.model);
-    MeanStructure solved =
-        solve_mean_structure(design.shared, design.mode_columns, y, w, scratch);
-    result.fit.theta = std::move(solved.theta);
-    result.fit.model.modes.mean = std::move(solved.mean);
-    result.fit.mode_coefficients = std::move(solved.mode_coefficients);
-    update_noise(y - design.shared * result.fit.theta,
-                 mode_shifts(design, result.fit.mode_coefficients), design.state,
-                 result.responsibilities, options.variance_floor, result.fit.model);
+        precision_weights(from.responsibilities.mode, design.state, from.parameters.model);
+    MeanStructure solved = solve_mean_structure(design.shared, design.mode_columns, y, w, scratch);
+    next.theta = std::move(solved.theta);
+    next.model.modes.mean = std::move(solved.mean);
+    next.mode_coefficients = std::move(solved.mode_coefficients);
+    update_noise(y - design.shared * next.theta, mode_shifts(design, next.mode_coefficients),
+                 design.state, from.responsibilities, options.variance_floor, next.model);
+    return next;
+  };
+
+  Point point = evaluate(start);
+  double previous = -std::numeric_limits<double>::infinity();
+  const auto arrive = [&](Point&& next) {
+    previous = point.log_likelihood;
+    point = std::move(next);
+    result.log_likelihood_trace.push_back(point.log_likelihood);
+  };
+  result.log_likelihood_trace.push_back(point.log_likelihood);
+  const auto done = [&] {
+    if (std::abs(point.log_likelihood - previous) <= options.log_likelihood_tolerance * k) {
+      result.converged = true;
+      return true;
+    }
+    return result.iterations >= options.max_iterations;
+  };
+  const bool accelerate = options.acceleration == EmAcceleration::Squarem;
+  SquaremSteps steps;
+  // Under SQUAREM, the M-step from an extrapolated point is taken when the point is tried (a point
+  // whose M-step fails is refused), and used by the next cycle.
+  std::optional<ExtendedParameters> pending;
+  const auto next_step = [&] {
     ++result.iterations;
+    if (pending) {
+      ExtendedParameters out = std::move(*pending);
+      pending.reset();
+      return out;
+    }
+    return step(point);
+  };
+  while (!done()) {
+    if (!accelerate) {
+      arrive(evaluate(next_step()));
+      continue;
+    }
+    // SQUAREM: x0 → x1 → x2 by the map, then the extrapolated point, kept when valid and not
+    // below x1's log-likelihood; x2 otherwise.
+    const Eigen::VectorXd x0 = encode(point.parameters);
+    arrive(evaluate(next_step()));
+    if (done()) break;
+    const Eigen::VectorXd x1 = encode(point.parameters);
+    ExtendedParameters x2 = next_step();
+    const Eigen::VectorXd r = x1 - x0;
+    const Eigen::VectorXd v = encode(x2) - x1 - r;
+    const double alpha = steps.step_length(r, v);
+    if (alpha > 1.0) {
+      if (std::optional<ExtendedParameters> jump =
+              decode(SquaremSteps::extrapolate(x0, r, v, alpha), x2, options.variance_floor)) {
+        try {
+          Point tried = evaluate(std::move(*jump));
+          if (tried.log_likelihood >= point.log_likelihood) {
+            pending = step(tried);
+            steps.accepted(alpha);
+            arrive(std::move(tried));
+            continue;
+          }
+        } catch (const NumericalError&) {
+          // The extrapolated point has no finite likelihood or its M-step fails: refused.
+        }
+      }
+      steps.refused(alpha);
+    } else {
+      steps.accepted(alpha);
+    }
+    arrive(evaluate(std::move(x2)));
   }
+  result.fit = std::move(point.parameters);
+  result.responsibilities = std::move(point.responsibilities);
+  result.log_likelihood = point.log_likelihood;
   return result;
 }
 

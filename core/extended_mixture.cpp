@@ -76,63 +76,87 @@ void log_emission(const Eigen::Ref<const Eigen::VectorXd>& e,
     }
     return;
   }
-  // −½ log(2π σ²) and 1/(2σ²) of each state and mode, computed once.
-  const int states = m.states();
-  Eigen::MatrixXd log_norm(states, modes), half_precision(states, modes);
-  for (int s = 0; s < states; ++s) {
+  // −½ log(2π σ²) and 1/(2σ²) of each spread bin and mode, computed once; per range gathered
+  // by its bin only when the spreads are binned.
+  const int variance_states = m.variance_states();
+  Eigen::MatrixXd log_norm(variance_states, modes), half_precision(variance_states, modes);
+  for (int b = 0; b < variance_states; ++b) {
     for (int i = 0; i < modes; ++i) {
-      const double variance = m.variance(s, i);
-      log_norm(s, i) = -0.5 * std::log(2.0 * std::numbers::pi * variance);
-      half_precision(s, i) = 0.5 / variance;
+      const double variance = m.variance(b, i);  // state b: weight bin 0, spread bin b
+      log_norm(b, i) = -0.5 * std::log(2.0 * std::numbers::pi * variance);
+      half_precision(b, i) = 0.5 / variance;
     }
   }
+  Eigen::ArrayXd centred(e.size()), gathered_norm, gathered_precision;
+  if (variance_states > 1) {
+    gathered_norm.resize(e.size());
+    gathered_precision.resize(e.size());
+  }
   for (int i = 0; i < modes; ++i) {
-    const double mean = m.modes.mean[i];
-    for (Eigen::Index k = 0; k < e.size(); ++k) {
-      const double centred = e[k] - mean - (shifted ? shift(k, i) : 0.0);
-      out(k, i) = log_norm(state[k], i) - centred * centred * half_precision(state[k], i);
+    centred = e.array() - m.modes.mean[i];
+    if (shifted) centred -= shift.col(i).array();
+    if (variance_states == 1) {
+      out.col(i) = (log_norm(0, i) - centred.square() * half_precision(0, i)).matrix();
+      continue;
     }
+    for (Eigen::Index k = 0; k < e.size(); ++k) {
+      const int bin = state[k] % variance_states;
+      gathered_norm[k] = log_norm(bin, i);
+      gathered_precision[k] = half_precision(bin, i);
+    }
+    out.col(i) = (gathered_norm - centred.square() * gathered_precision).matrix();
   }
 }
 
-// Independent draws (with bin weights and the outlier component): a log-sum-exp per range.
-// Fills the per-range log-likelihoods when asked.
+// Independent draws (with bin weights and the outlier component): a log-sum-exp per range, on
+// Eigen arrays over all ranges (vectorized exp and log). Fills the per-range log-likelihoods
+// when asked.
 double independent_e_step(const Eigen::Ref<const Eigen::VectorXi>& state, const ExtendedMixture& m,
                           double log_outlier_density, Eigen::MatrixXd& log_joint,
                           ExtendedResponsibilities& out, Eigen::VectorXd* per_range) {
   const Eigen::Index k_count = log_joint.rows();
   const int modes = m.modes.modes();
   const double eps = m.outlier_weight;
-  const double log_outlier = eps > 0.0 ? std::log(eps) + log_outlier_density : kMinusInfinity;
+  const bool outliers = eps > 0.0;
+  const double log_outlier = outliers ? std::log(eps) + log_outlier_density : kMinusInfinity;
   const double log_inlier = std::log1p(-eps);
-  out.outlier = Eigen::VectorXd::Zero(k_count);
-  Eigen::MatrixXd log_prior(m.states(), modes);
-  for (int s = 0; s < m.states(); ++s) {
-    for (int i = 0; i < modes; ++i) log_prior(s, i) = log_of(m.weight(s, i)) + log_inlier;
-  }
-  double log_likelihood = 0.0;
-  for (Eigen::Index k = 0; k < k_count; ++k) {
-    double top = log_outlier;
+  const int weight_states = m.weight_states();
+  Eigen::MatrixXd log_prior(weight_states, modes);
+  for (int b = 0; b < weight_states; ++b) {
     for (int i = 0; i < modes; ++i) {
-      log_joint(k, i) += log_prior(state[k], i);
-      top = std::max(top, log_joint(k, i));
+      log_prior(b, i) = log_of(m.weight(m.state(b, 0), i)) + log_inlier;
     }
-    double sum = 0.0;
-    for (int i = 0; i < modes; ++i) {
-      log_joint(k, i) = std::exp(log_joint(k, i) - top);
-      sum += log_joint(k, i);
-    }
-    const double outlier = std::exp(log_outlier - top);
-    sum += outlier;
-    log_joint.row(k) /= sum;
-    out.outlier[k] = outlier / sum;
-    const double range_log_likelihood = top + std::log(sum);
-    if (per_range) (*per_range)[k] = range_log_likelihood;
-    log_likelihood += range_log_likelihood;
   }
+  auto joint = log_joint.array();
+  if (weight_states == 1) {
+    joint.rowwise() += log_prior.row(0).array();
+  } else {
+    for (Eigen::Index k = 0; k < k_count; ++k) {
+      joint.row(k) += log_prior.row(state[k] / m.variance_states()).array();
+    }
+  }
+  Eigen::ArrayXd top = joint.col(0);
+  for (int i = 1; i < modes; ++i) top = top.max(joint.col(i));
+  if (outliers) top = top.max(log_outlier);
+  Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(k_count);
+  for (int i = 0; i < modes; ++i) {
+    joint.col(i) = (joint.col(i) - top).exp();
+    sum += joint.col(i);
+  }
+  if (outliers) {
+    out.outlier = (log_outlier - top).exp().matrix();
+    sum += out.outlier.array();
+  } else {
+    out.outlier = Eigen::VectorXd::Zero(k_count);
+  }
+  const Eigen::ArrayXd range_log_likelihood = top + sum.log();
+  const Eigen::ArrayXd inverse = sum.inverse();
+  joint.colwise() *= inverse;
+  if (outliers) out.outlier.array() *= inverse;
+  if (per_range) *per_range = range_log_likelihood.matrix();
   out.mode = std::move(log_joint);
   out.transitions.resize(0, 0);
-  return log_likelihood;
+  return range_log_likelihood.sum();
 }
 
 // Mode persistence: the scaled forward-backward recursion (Rabiner 1989) over the chain. The
@@ -142,11 +166,11 @@ double chain_e_step(const ExtendedMixture& m, Eigen::MatrixXd& log_b, ExtendedRe
   const Eigen::Index k_count = log_b.rows();
   const int modes = m.modes.modes();
   const Eigen::MatrixXd& a = m.transition;
-  Eigen::VectorXd shift(k_count);
-  for (Eigen::Index k = 0; k < k_count; ++k) {
-    shift[k] = log_b.row(k).maxCoeff();
-    log_b.row(k) = (log_b.row(k).array() - shift[k]).exp().matrix();  // b_k, scaled
-  }
+  // b_k scaled by its largest mode, on arrays over all ranges.
+  Eigen::ArrayXd top = log_b.col(0).array();
+  for (int i = 1; i < modes; ++i) top = top.max(log_b.col(i).array());
+  for (int i = 0; i < modes; ++i) log_b.col(i) = (log_b.col(i).array() - top).exp().matrix();
+  const Eigen::VectorXd shift = top.matrix();
   Eigen::MatrixXd alpha(k_count, modes);
   Eigen::VectorXd scale(k_count);
   double log_likelihood = 0.0;

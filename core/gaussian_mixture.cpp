@@ -70,12 +70,18 @@ void MixtureParameters::validate() const {
 double mixture_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
                       const MixtureParameters& mixture, Eigen::MatrixXd& responsibilities) {
   log_joint(residual, mixture, responsibilities);
-  const Eigen::VectorXd row_max = responsibilities.rowwise().maxCoeff();
-  responsibilities.colwise() -= row_max;
-  responsibilities = responsibilities.array().exp().matrix();
-  const Eigen::VectorXd row_sum = responsibilities.rowwise().sum();
-  responsibilities.array().colwise() /= row_sum.array();
-  const double log_likelihood = (row_max.array() + row_sum.array().log()).sum();
+  // Log-sum-exp per range, on the modes' columns (vectorized max, exp and log over the ranges).
+  const int m = mixture.modes();
+  auto joint = responsibilities.array();
+  Eigen::ArrayXd top = joint.col(0);
+  for (int i = 1; i < m; ++i) top = top.max(joint.col(i));
+  Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(residual.size());
+  for (int i = 0; i < m; ++i) {
+    joint.col(i) = (joint.col(i) - top).exp();
+    sum += joint.col(i);
+  }
+  const double log_likelihood = (top + sum.log()).sum();
+  joint.colwise() *= sum.inverse();
   if (!std::isfinite(log_likelihood)) {
     throw NumericalError(
         "mixture log-likelihood is not finite: a residual is not finite or every mode has zero "
@@ -88,9 +94,12 @@ Eigen::VectorXd mixture_log_densities(const Eigen::Ref<const Eigen::VectorXd>& r
                                       const MixtureParameters& mixture) {
   Eigen::MatrixXd joint;
   log_joint(residual, mixture, joint);
-  const Eigen::VectorXd row_max = joint.rowwise().maxCoeff();
-  joint.colwise() -= row_max;
-  Eigen::VectorXd out = row_max.array() + joint.array().exp().rowwise().sum().log();
+  auto a = joint.array();
+  Eigen::ArrayXd top = a.col(0);
+  for (int i = 1; i < mixture.modes(); ++i) top = top.max(a.col(i));
+  Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(residual.size());
+  for (int i = 0; i < mixture.modes(); ++i) sum += (a.col(i) - top).exp();
+  Eigen::VectorXd out = (top + sum.log()).matrix();
   if (!out.allFinite()) {
     throw NumericalError(
         "mixture log-density is not finite: a residual is not finite or every mode has zero "

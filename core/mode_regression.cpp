@@ -75,7 +75,9 @@ MeanStructure solve_mean_structure(const Eigen::Ref<const Eigen::MatrixXd>& x,
   scratch = sqrt_weight.matrix().asDiagonal() * (x.rowwise() - column_mean);
   Eigen::MatrixXd g = gram(scratch);
   Eigen::VectorXd b = scratch.transpose() * (sqrt_weight * y.array()).matrix();
-  const Eigen::MatrixXd centred = x.rowwise() - column_mean;
+  // The scratch rows are √t_k (X_k − X̄), so Σ_k v_k (X_k − X̄) = scratchᵀ (v / √t): no centred
+  // copy of X is needed.
+  const Eigen::ArrayXd inverse_sqrt_weight = (sqrt_weight > 0.0).select(sqrt_weight.inverse(), 0.0);
 
   // Mode i's own design [1, Z_i] and the blocks of its normal equations.
   struct ModeBlock {
@@ -86,14 +88,26 @@ MeanStructure solve_mean_structure(const Eigen::Ref<const Eigen::MatrixXd>& x,
   std::vector<ModeBlock> blocks(modes);
   for (std::size_t i = 0; i < modes; ++i) {
     const Eigen::Index q = mode_columns[i].cols();
-    Eigen::MatrixXd own(k, 1 + q);
-    own.col(0).setOnes();
-    if (q > 0) own.rightCols(q) = mode_columns[i];
-    const Eigen::MatrixXd weighted = own.array().colwise() * w.col(static_cast<Eigen::Index>(i)).array();
+    const auto w_i = w.col(static_cast<Eigen::Index>(i));
     ModeBlock& blk = blocks[i];
-    blk.a = weighted.transpose() * own;
-    blk.c = weighted.transpose() * centred;
-    blk.t = weighted.transpose() * y;
+    if (q == 0) {  // the offset alone: sums of the weights
+      blk.a = Eigen::MatrixXd::Constant(1, 1, w_i.sum());
+      blk.t = Eigen::VectorXd::Constant(1, w_i.dot(y));
+      blk.c = p > 0 ? Eigen::MatrixXd((scratch.transpose() *
+                                       (w_i.array() * inverse_sqrt_weight).matrix()).transpose())
+                    : Eigen::MatrixXd(1, 0);
+    } else {
+      Eigen::MatrixXd own(k, 1 + q);
+      own.col(0).setOnes();
+      own.rightCols(q) = mode_columns[i];
+      const Eigen::MatrixXd weighted = own.array().colwise() * w_i.array();
+      blk.a = weighted.transpose() * own;
+      blk.t = weighted.transpose() * y;
+      blk.c = p > 0 ? Eigen::MatrixXd(
+                          (weighted.array().colwise() * inverse_sqrt_weight).matrix().transpose() *
+                          scratch)
+                    : Eigen::MatrixXd(1 + q, 0);
+    }
     if (p > 0) {
       const Eigen::LDLT<Eigen::MatrixXd> factor(blk.a);
       if (factor.info() != Eigen::Success || !(factor.rcond() >= kSingularReciprocalCondition)) {

@@ -298,9 +298,13 @@ PY
 python3 - "$work/diagnosis.json" "$work/report/data/context.json" <<'PY'
 import json, sys
 d, c = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
-assert d["named"] == "time drift", d
-assert [k["effect"] for k in d["search"]["kept"]] == ["time drift"], d["search"]["kept"]
-assert [t["kept"] for t in c["search_terms"]] == [True, False], c["search_terms"]
+# The time drift the scenario carries is named and kept first; a later step may keep more (with
+# the search's fits converged, a warm-up decay passes on this record: it lowers d hat's held-out
+# error). Each kept term has its figure, and the candidate named last and not kept one more.
+kept = d["search"]["kept"]
+assert d["named"].split(", ")[0] == "time drift" and kept, d
+assert kept[0]["effect"] == "time drift", kept
+assert [t["kept"] for t in c["search_terms"]] == [True] * len(kept) + [False], c["search_terms"]
 assert len(d["findings"]) == 9, d  # so the page above carries all nine evidence figures
 PY
 
