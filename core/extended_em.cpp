@@ -273,18 +273,30 @@ void read_log_ratios(const double*& in, Eigen::MatrixXd& table) {
 
 // The parameters as one vector in which every point is a valid model (core/squarem.hpp): θ, the
 // β_i, μ as they are; log variances (per mode and per spread bin); log-ratio weights (per mode,
-// per weight bin) and transition rows; the outlier weight's logit.
+// per weight bin) and transition rows; a parametric noise term's intercepts and slopes; the
+// outlier weight's logit.
 Eigen::VectorXd encode(const ExtendedParameters& x) {
   std::vector<double> v(x.theta.data(), x.theta.data() + x.theta.size());
   for (const Eigen::VectorXd& beta : x.mode_coefficients) v.insert(v.end(), beta.data(), beta.data() + beta.size());
   const ExtendedMixture& m = x.model;
   v.insert(v.end(), m.modes.mean.data(), m.modes.mean.data() + m.modes.mean.size());
   for (const double s2 : m.modes.variance) v.push_back(std::log(s2));
-  if (m.variance_bins) {
+  // A parametric noise term's intercepts and slopes, which are unconstrained; its table follows.
+  const auto append_slopes = [&v](const NoiseBins& b) {
+    v.insert(v.end(), b.intercept.data(), b.intercept.data() + b.intercept.size());
+    v.insert(v.end(), b.slope.data(), b.slope.data() + b.slope.size());
+  };
+  if (m.variance_bins && m.variance_bins->term.is_parametric_noise()) {
+    append_slopes(*m.variance_bins);
+  } else if (m.variance_bins) {
     for (const double s2 : m.variance_bins->table.reshaped()) v.push_back(std::log(s2));
   }
   append_log_ratios(m.modes.weight.transpose(), v);
-  if (m.weight_bins) append_log_ratios(m.weight_bins->table, v);
+  if (m.weight_bins && m.weight_bins->term.is_parametric_noise()) {
+    append_slopes(*m.weight_bins);
+  } else if (m.weight_bins) {
+    append_log_ratios(m.weight_bins->table, v);
+  }
   if (m.transition.size() > 0) append_log_ratios(m.transition, v);
   if (m.outlier_weight > 0.0) v.push_back(std::log(m.outlier_weight / (1.0 - m.outlier_weight)));
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
@@ -306,21 +318,34 @@ std::optional<ExtendedParameters> decode(const Eigen::VectorXd& v, const Extende
   read(m.modes.mean);
   read(m.modes.variance);
   m.modes.variance = m.modes.variance.array().exp().max(floor).matrix();
-  if (m.variance_bins) {
+  const auto read_slopes = [&](NoiseBins& b) {
+    read(b.intercept);
+    read(b.slope);
+    b.refresh_table();
+  };
+  if (m.variance_bins && m.variance_bins->term.is_parametric_noise()) {
+    read_slopes(*m.variance_bins);
+    m.variance_bins->table = m.variance_bins->table.cwiseMax(floor);
+  } else if (m.variance_bins) {
     read(m.variance_bins->table);
     m.variance_bins->table = m.variance_bins->table.array().exp().max(floor).matrix();
   }
   Eigen::MatrixXd weight = m.modes.weight.transpose();
   read_log_ratios(in, weight);
   m.modes.weight = weight.transpose();
-  if (m.weight_bins) read_log_ratios(in, m.weight_bins->table);
+  if (m.weight_bins && m.weight_bins->term.is_parametric_noise()) {
+    read_slopes(*m.weight_bins);
+  } else if (m.weight_bins) {
+    read_log_ratios(in, m.weight_bins->table);
+  }
   if (m.transition.size() > 0) read_log_ratios(in, m.transition);
   if (m.outlier_weight > 0.0) {
     m.outlier_weight =
         std::clamp(1.0 / (1.0 + std::exp(-*in++)), kMinimumOutlierWeight, kMaximumOutlierWeight);
   }
   if (!m.modes.variance.allFinite() ||
-      (m.variance_bins && !m.variance_bins->table.allFinite())) {
+      (m.variance_bins && !m.variance_bins->table.allFinite()) ||
+      (m.weight_bins && !m.weight_bins->table.allFinite())) {
     return std::nullopt;
   }
   return x;

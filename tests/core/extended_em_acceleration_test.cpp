@@ -86,9 +86,9 @@ Problem binned_outlier_problem() {
   }
   ExtendedMixture start = without_extensions(overlapping_modes());
   start.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, 26.0),
-                                Eigen::MatrixXd::Constant(2, 2, 0.5)};
+                                Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
   start.variance_bins =
-      NoiseBins{temperature_bins(Parameter::Spread, 26.0), Eigen::MatrixXd::Ones(2, 2)};
+      NoiseBins{temperature_bins(Parameter::Spread, 26.0), Eigen::MatrixXd::Ones(2, 2), {}, {}};
   start.outlier_weight = 0.05;
   start.outlier_density = 1.0 / 80.0;
   p.start = {Eigen::VectorXd::Zero(1), std::vector<Eigen::VectorXd>(2), start};
