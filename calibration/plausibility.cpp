@@ -1,0 +1,63 @@
+// The recalibration gate's checks: see plausibility.hpp.
+#include "calibration/plausibility.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace tofcomp::calibration {
+
+std::vector<std::string> implausibilities(const core::Calibration& calibration) {
+  std::vector<std::string> faults;
+  const core::MeasurementModel& model = calibration.model;
+  const core::MixtureParameters& mixture = model.mixture;
+  for (Eigen::Index i = 0; i < mixture.mean.size(); ++i) {
+    const double offset = mixture.mean[i];
+    const double spread = std::sqrt(mixture.variance[i]);
+    if (!std::isfinite(offset) || std::abs(offset) > kMaxModeOffsetMm) {
+      faults.push_back(fmt::format(
+          "mode {}'s offset is {:+.1f} mm, beyond the ±{:.0f} mm an LMS 200's range error can be "
+          "(its systematic error is ±{:.0f} mm): is the recording's true_range_mm right?",
+          i, offset, kMaxModeOffsetMm, core::lms200::kSystematicErrorMm));
+    }
+    if (!std::isfinite(spread) || spread > kMaxModeSpreadMm) {
+      faults.push_back(fmt::format(
+          "mode {}'s standard deviation is {:.1f} mm, more than the {:.0f} mm an LMS 200's "
+          "ranges spread (its statistical error is {:.0f} mm)",
+          i, spread, kMaxModeSpreadMm, core::lms200::kStatisticalErrorMm));
+    }
+  }
+  if (model.trained_junction_c) {
+    const core::TemperatureRange& range = *model.trained_junction_c;
+    if (!std::isfinite(range.min_c) || !std::isfinite(range.max_c) || range.min_c < kMinJunctionC ||
+        range.max_c > kMaxJunctionC || range.min_c > range.max_c) {
+      faults.push_back(fmt::format(
+          "the trained junction temperatures {:.1f} to {:.1f} °C lie outside {:.0f} to {:.0f} °C",
+          range.min_c, range.max_c, kMinJunctionC, kMaxJunctionC));
+    } else {
+      const Eigen::VectorXd t =
+          Eigen::VectorXd::LinSpaced(kBiasCheckPoints, range.min_c, range.max_c);
+      const Eigen::VectorXd bias = model.bias(t);
+      Eigen::Index worst = 0;
+      const double largest = bias.cwiseAbs().maxCoeff(&worst);
+      if (!std::isfinite(largest) || largest > kMaxBiasMm) {
+        faults.push_back(fmt::format(
+            "the temperature bias H(t)θ reaches {:+.1f} mm at {:.2f} °C, beyond ±{:.0f} mm",
+            bias[worst], t[worst], kMaxBiasMm));
+      }
+    }
+  }
+  return faults;
+}
+
+std::optional<std::string> held_out_regression(const HeldOutComparison& c) {
+  const double allowed = c.running_mae_mm * (1.0 + kHeldOutMarginFraction) + kHeldOutMarginMm;
+  if (std::isfinite(c.new_mae_mm) && c.new_mae_mm <= allowed) return std::nullopt;
+  return fmt::format(
+      "on the {} held-out ranges ({} windows) its d̂ errs by {:.3f} mm on average, the running "
+      "calibration's by {:.3f} mm: more than {:.0f} % + {:.2f} mm worse",
+      c.ranges, c.windows, c.new_mae_mm, c.running_mae_mm, 100.0 * kHeldOutMarginFraction,
+      kHeldOutMarginMm);
+}
+
+}  // namespace tofcomp::calibration
