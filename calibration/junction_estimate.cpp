@@ -49,9 +49,8 @@ SmoothedJunction junction_at_ranges(const MeasuredData& data,
     // Eq. 3's input held over each interval (zero-order hold): the share of the interval to the
     // next instant the power was on, so that a switch between instants heats the model by the
     // energy it put in (the case log's convention, calibration/measured_data.hpp).
-    power[g] = g + 1 < n
-                   ? data.power_on_fraction(at.time_s, grid[static_cast<std::size_t>(g) + 1].time_s)
-                   : (data.power_on_at(at.time_s) ? 1.0 : 0.0);
+    power[g] = g + 1 < n ? data.power_on_fraction(at.time_s, grid[static_cast<std::size_t>(g) + 1].time_s)
+                         : (data.power_on_at(at.time_s) ? 1.0 : 0.0);
     ambient[g] = data.ambient_at(at.time_s, ambient_fallback_c);
     reading[g] = at.reading ? data.case_c[at.index] : 0.0;
     measured[static_cast<std::size_t>(g)] = at.reading;

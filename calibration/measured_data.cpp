@@ -144,9 +144,9 @@ core::CaseTemperatureLog case_log(const MeasuredData& data, double ambient_fallb
     // Eq. 3's input is held over each interval (zero-order hold): the share of the interval to
     // the next reading the power was on, so that a switch between readings heats the model by
     // the energy it put in, not a whole interval early or late.
-    log.power_on_fraction[i] = i + 1 < k
-                                   ? data.power_on_fraction(log.times_s[i], log.times_s[i + 1])
-                                   : (data.power_on_at(log.times_s[i]) ? 1.0 : 0.0);
+    log.power_on_fraction[i] =
+        i + 1 < k ? data.power_on_fraction(log.times_s[i], log.times_s[i + 1])
+                  : (data.power_on_at(log.times_s[i]) ? 1.0 : 0.0);
     log.ambient_c[i] = data.ambient_at(log.times_s[i], ambient_fallback_c);
   }
   return log;

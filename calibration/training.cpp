@@ -36,13 +36,13 @@ core::StructureChoice choose_structure(const TrainSettings& settings,
   if (settings.basis) options.basis = parse_basis(*settings.basis, junction_c);
   options.modes = settings.modes;
   int visited = 0;
-  return core::search_structure(
-      junction_c, y_minus_d, options, [&](const core::CandidateEvidence& e) {
-        ++visited;
-        report(progress,
-               kNoiseShare + (kSearchShare - kNoiseShare) * (1.0 - 1.0 / (1.0 + visited / 8.0)),
-               "structure: " + e.name);
-      });
+  return core::search_structure(junction_c, y_minus_d, options,
+                                [&](const core::CandidateEvidence& e) {
+                                  ++visited;
+                                  report(progress, kNoiseShare + (kSearchShare - kNoiseShare) *
+                                                                     (1.0 - 1.0 / (1.0 + visited / 8.0)),
+                                         "structure: " + e.name);
+                                });
 }
 
 // The choices' evidence as the calibration keeps it.
@@ -60,7 +60,8 @@ core::TrainingChoices record_choices(const Training& t) {
   }
   if (t.structure_not_chosen) {
     core::StructureRecord record;
-    record.method = "not chosen: too few ranges to judge candidates on; the paper's structure (§8)";
+    record.method =
+        "not chosen: too few ranges to judge candidates on; the paper's structure (§8)";
     choices.structure = record;
   }
   if (t.structure) {
@@ -97,8 +98,8 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   if (settings.kalman_noise) {
     noise = *settings.kalman_noise;
   } else {
-    t.kalman_noise_fit = core::fit_kalman_noise(case_log(data, settings.thermal.ambient_fallback_c),
-                                                thermal, core::ThermalNoise{});
+    t.kalman_noise_fit = core::fit_kalman_noise(
+        case_log(data, settings.thermal.ambient_fallback_c), thermal, core::ThermalNoise{});
     noise = t.kalman_noise_fit->noise;
   }
   t.junction = junction_at_ranges(data, thermal, noise, settings.thermal.ambient_fallback_c);
@@ -115,8 +116,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
       std::max(search_settings.search.em.variance_floor, rounding_variance);
   search_settings.search.resolution = kRangeResolutionMm;
   core::Basis basis;
-  const bool too_few_to_choose =
-      y_minus_d.size() < core::minimum_ranges_for_search(settings.search);
+  const bool too_few_to_choose = y_minus_d.size() < core::minimum_ranges_for_search(settings.search);
   if ((settings.basis && settings.modes) || too_few_to_choose) {
     // Given, or too few ranges to judge candidates on: the paper's structure (§8) for what was
     // not given.
