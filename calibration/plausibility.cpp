@@ -12,14 +12,7 @@ std::vector<std::string> implausibilities(const core::Calibration& calibration) 
   const core::MeasurementModel& model = calibration.model;
   const core::MixtureParameters& mixture = model.mixture;
   for (Eigen::Index i = 0; i < mixture.mean.size(); ++i) {
-    const double offset = mixture.mean[i];
     const double spread = std::sqrt(mixture.variance[i]);
-    if (!std::isfinite(offset) || std::abs(offset) > kMaxModeOffsetMm) {
-      faults.push_back(fmt::format(
-          "mode {}'s offset is {:+.1f} mm, beyond the ±{:.0f} mm an LMS 200's range error can be "
-          "(its systematic error is ±{:.0f} mm): is the recording's true_range_mm right?",
-          i, offset, kMaxModeOffsetMm, core::lms200::kSystematicErrorMm));
-    }
     if (!std::isfinite(spread) || spread > kMaxModeSpreadMm) {
       faults.push_back(fmt::format(
           "mode {}'s standard deviation is {:.1f} mm, more than the {:.0f} mm an LMS 200's "
@@ -27,25 +20,47 @@ std::vector<std::string> implausibilities(const core::Calibration& calibration) 
           i, spread, kMaxModeSpreadMm, core::lms200::kStatisticalErrorMm));
     }
   }
-  if (model.trained_junction_c) {
-    const core::TemperatureRange& range = *model.trained_junction_c;
-    if (!std::isfinite(range.min_c) || !std::isfinite(range.max_c) || range.min_c < kMinJunctionC ||
-        range.max_c > kMaxJunctionC || range.min_c > range.max_c) {
-      faults.push_back(fmt::format(
-          "the trained junction temperatures {:.1f} to {:.1f} °C lie outside {:.0f} to {:.0f} °C",
-          range.min_c, range.max_c, kMinJunctionC, kMaxJunctionC));
-    } else {
-      const Eigen::VectorXd t =
-          Eigen::VectorXd::LinSpaced(kBiasCheckPoints, range.min_c, range.max_c);
-      const Eigen::VectorXd bias = model.bias(t);
-      Eigen::Index worst = 0;
-      const double largest = bias.cwiseAbs().maxCoeff(&worst);
-      if (!std::isfinite(largest) || largest > kMaxBiasMm) {
-        faults.push_back(fmt::format(
-            "the temperature bias H(t)θ reaches {:+.1f} mm at {:.2f} °C, beyond ±{:.0f} mm",
-            bias[worst], t[worst], kMaxBiasMm));
+  if (mixture.mean.size() > 0) {
+    const double separation = mixture.mean.maxCoeff() - mixture.mean.minCoeff();
+    if (!std::isfinite(separation) || separation > kMaxModeSeparationMm) {
+      faults.push_back(
+          fmt::format("the modes lie {:.1f} mm apart, more than the {:.0f} mm of an "
+                      "LMS 200's lasing modes",
+                      separation, kMaxModeSeparationMm));
+    }
+  }
+  // The trained junction temperatures, or without them the basis's own scaling.
+  core::TemperatureRange range{model.basis.scaling().center_c - model.basis.scaling().half_range_c,
+                               model.basis.scaling().center_c + model.basis.scaling().half_range_c};
+  if (model.trained_junction_c) range = *model.trained_junction_c;
+  if (!std::isfinite(range.min_c) || !std::isfinite(range.max_c) || range.min_c < kMinJunctionC ||
+      range.max_c > kMaxJunctionC || range.min_c > range.max_c) {
+    faults.push_back(fmt::format(
+        "the trained junction temperatures {:.1f} to {:.1f} °C lie outside {:.0f} to {:.0f} °C",
+        range.min_c, range.max_c, kMinJunctionC, kMaxJunctionC));
+    return faults;
+  }
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(kBiasCheckPoints, range.min_c, range.max_c);
+  const Eigen::VectorXd bias = model.bias(t);
+  double worst = 0.0;
+  Eigen::Index worst_mode = 0;
+  Eigen::Index worst_t = 0;
+  for (Eigen::Index i = 0; i < mixture.mean.size(); ++i) {
+    for (Eigen::Index k = 0; k < t.size(); ++k) {
+      const double error = mixture.mean[i] + bias[k];
+      if (!std::isfinite(error) || std::abs(error) > std::abs(worst) || !std::isfinite(worst)) {
+        worst = error;
+        worst_mode = i;
+        worst_t = k;
       }
     }
+  }
+  if (!std::isfinite(worst) || std::abs(worst) > kMaxRangeErrorMm) {
+    faults.push_back(fmt::format(
+        "in mode {} at {:.2f} °C it predicts a range error of {:+.1f} mm, beyond the ±{:.0f} mm "
+        "an LMS 200's can be (its systematic error is ±{:.0f} mm): is the recording's "
+        "true_range_mm right?",
+        worst_mode, t[worst_t], worst, kMaxRangeErrorMm, core::lms200::kSystematicErrorMm));
   }
   return faults;
 }

@@ -16,17 +16,19 @@
 
 namespace tofcomp::calibration {
 
-// A mode's offset μ_i (the bias's constant part included) at most this far from 0: over three
-// times the device's systematic error, "a few cm".
-inline constexpr double kMaxModeOffsetMm = 50.0;
+// The range error the calibration predicts, μ_i + H(t)θ, in every mode i at every trained junction
+// temperature t, at most this far from 0: over three times the device's systematic error, "a few
+// cm". (The offsets and the bias are checked together: where the basis and the offsets share a
+// constant, each may be large while their sum, the prediction, is not.)
+inline constexpr double kMaxRangeErrorMm = 50.0;
+// The modes at most this far apart: a few cm.
+inline constexpr double kMaxModeSeparationMm = 50.0;
 // A mode's standard deviation σ_i at most this: six times the device's statistical error.
 inline constexpr double kMaxModeSpreadMm = 30.0;
-// The temperature bias H(t)θ at most this far from 0 anywhere in the trained junction range.
-inline constexpr double kMaxBiasMm = 50.0;
 // Junction temperatures a laser diode in a working scanner can have.
 inline constexpr double kMinJunctionC = -40.0;
 inline constexpr double kMaxJunctionC = 150.0;
-// Points of the trained junction range at which the bias is checked.
+// Points of the trained junction range at which the predicted error is checked.
 inline constexpr int kBiasCheckPoints = 101;
 
 // The held-out criterion: the new calibration's mean absolute error of d̂ on the held-out
