@@ -11,7 +11,7 @@ build="${TOFCOMP_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 # Only the fuzzers and the libraries they link are built: everything else is off.
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTOFCOMP_BUILD_FUZZERS=ON -DTOFCOMP_BUILD_TESTS=OFF -DTOFCOMP_BUILD_BENCH=OFF >/dev/null
-cmake --build "$build" --target lms2xx_decoder_fuzzer lms2xx_make_seed_corpus \
+cmake --build "$build" --parallel "${TOFCOMP_JOBS:-$(nproc)}" --target lms2xx_decoder_fuzzer lms2xx_make_seed_corpus \
   daemon_config_fuzzer socket_request_fuzzer measured_data_csv_fuzzer calibration_file_fuzzer \
   scenario_yaml_fuzzer
 mkdir -p "$build/findings"
