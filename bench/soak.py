@@ -203,6 +203,7 @@ class Clients(threading.Thread):
     def control(self):
         for op, period in (("reload", RELOAD_PERIOD_S),):
             s = connect(self.path)
+            self.counts.setdefault("control_times", []).append(time.time())
             s.sendall(json.dumps({"id": 1, "op": op}).encode() + b"\n")
             reply = json.loads(read_lines(s, 1)[0])
             s.close()
@@ -214,6 +215,7 @@ class Clients(threading.Thread):
         if self.stop.is_set():
             return
         s = connect(self.path)
+        self.counts.setdefault("training_times", []).append(time.time())
         s.sendall(b'{"id":1,"op":"recalibrate"}\n')
         reply = json.loads(read_lines(s, 1)[0])
         s.close()
@@ -270,6 +272,8 @@ def main():
     parser.add_argument("--minutes", type=float, default=10.0)
     parser.add_argument("--build", default=os.path.join(ROOT, "build"))
     parser.add_argument("--keep", help="work in this directory and keep it")
+    parser.add_argument("--nice", type=int, default=0,
+                        help="the daemon's niceness (negative: before other work; needs root)")
     args = parser.parse_args()
     work = args.keep or tempfile.mkdtemp(prefix="tofcomp-soak-")
     os.makedirs(os.path.join(work, "bench"), exist_ok=True)
@@ -288,7 +292,8 @@ def main():
     sock = os.path.join(work, "tofcompd.sock")
     log = open(os.path.join(work, "tofcompd.log"), "w")
     daemon = subprocess.Popen([os.path.join(args.build, "daemon", "tofcompd"), "--config", config],
-                              stdout=log, stderr=log)
+                              stdout=log, stderr=log,
+                              preexec_fn=(lambda: os.nice(args.nice)) if args.nice else None)
     stop = threading.Event()
     counts = {}
     try:
@@ -312,7 +317,10 @@ def main():
             now = time.time()
             if now >= next_sample:
                 rss, fds = process_figures(daemon.pid)
-                samples.append({"t_s": round(now - start, 1), "rss_kib": rss, "fds": fds})
+                with open("/proc/loadavg") as f:
+                    load = float(f.read().split()[0])
+                samples.append({"t_s": round(now - start, 1), "rss_kib": rss, "fds": fds,
+                                "load": load})
                 next_sample += SAMPLE_PERIOD_S
             stats_client.sendall(b'{"op":"stats"}\n')
             st = json.loads(read_lines(stats_client, 1)[0])["stats"]
@@ -344,13 +352,17 @@ def main():
     sequence_gaps = sum(1 for a, b in zip(follower.sequences, follower.sequences[1:]) if b != a + 1)
     # Scans lost on the link in the spans without an injected fault: sent and not delivered over
     # each span, but for the scans on the line at its two ends.
-    lost_quiet, quiet_s, span = 0, 0.0, []
+    lost_quiet, quiet_s, span, lost_spans = 0, 0.0, [], []
     def close_span():
         nonlocal lost_quiet, quiet_s
         if len(span) >= 2:
             sent = span[-1][2] - span[0][2]
             delivered = span[-1][3] - span[0][3]
-            lost_quiet += max(0, sent - delivered - IN_FLIGHT_SCANS)
+            lost = max(0, sent - delivered - IN_FLIGHT_SCANS)
+            lost_quiet += lost
+            if lost:
+                lost_spans.append({"from_s": round(span[0][0] - start, 1),
+                                   "to_s": round(span[-1][0] - start, 1), "lost": lost})
             quiet_s += span[-1][0] - span[0][0]
         span.clear()
     for sample in stats_samples:
@@ -364,9 +376,12 @@ def main():
     settled = samples[len(samples) // 10:]  # after the first tenth (start-up, first allocations)
     figures = {
         "minutes": args.minutes,
+        "daemon_nice": args.nice,
         "machine": f"{os.uname().sysname} {os.uname().release} {os.uname().machine}, {os.cpu_count()} cores",
         "rss_kib": {"first": rss[0], "after_first_tenth": settled[0]["rss_kib"], "last": rss[-1], "max": max(rss)},
         "fds": {"first": fds[0], "min": min(fds), "max": max(fds), "last": fds[-1]},
+        "load_average": {"min": min(x["load"] for x in samples), "max": max(x["load"] for x in samples),
+                         "mean": round(sum(x["load"] for x in samples) / len(samples), 2)},
         "scans_published": len(follower.times),
         "ring_reader_lost": follower.lost,
         "sequence_gaps": sequence_gaps,
@@ -379,13 +394,23 @@ def main():
         "scans_delivered": final_stats["stats"]["link"]["scans"],
         "scans_lost_outside_faults": lost_quiet,
         "seconds_without_faults": round(quiet_s),
+        "spans_with_scans_lost_outside_faults": lost_spans,
         "sensor_readings_invalid": final_stats["stats"]["daemon"]["readings_invalid"],
         "sensor_faults_written": counts.get("sensor_faults", 0),
         "socket": final_stats["socket"],
         "recalibration": final_status["status"]["recalibration"],
         "stop_s": round(stop_s, 3),
         "exit_status": exit_status,
-        "clients": {k: v for k, v in counts.items() if k != "last_errors"},
+        "clients": {k: v for k, v in counts.items() if not isinstance(v, list)},
+        # Each gap not near a fault: when (s into the run), how long, and the seconds since the
+        # last reload and the last recalibration asked for (a training runs for some 10 s).
+        "gaps_not_near_a_fault": [
+            {"at_s": round(a - start, 1), "ms": round(1000 * g, 1),
+             "after_reload_s": round(min([a - t for t in counts.get("control_times", []) if t <= a],
+                                         default=-1), 1),
+             "after_recalibrate_s": round(min([a - t for t in counts.get("training_times", []) if t <= a],
+                                              default=-1), 1)}
+            for g, a, b in unexplained],
         "client_errors": counts.get("last_errors", [])[-5:],
     }
     print(json.dumps(figures, indent=2))

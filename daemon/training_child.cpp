@@ -30,6 +30,7 @@ namespace {
 constexpr int kRunningCalibrationFd = 3;
 // Processor time allowed beyond the wall-clock limit the daemon enforces: a backstop only.
 constexpr rlim_t kCpuGraceS = 10;
+constexpr int kLowestPriority = 19;  // nice
 
 constexpr int kExitFailed = 1;
 constexpr int kExitUsage = 2;
@@ -55,6 +56,10 @@ void limit_self(pid_t parent, rlim_t memory_bytes, rlim_t time_s) {
   ::setrlimit(RLIMIT_CPU, &cpu);
   const rlimit no_core{0, 0};
   ::setrlimit(RLIMIT_CORE, &no_core);
+  // Training gives way to the daemon's scans: at the lowest priority (nice 19) the scheduler runs
+  // the daemon's threads first whenever they wake, while training still progresses on a busy
+  // machine. Where a policy forbids it, it runs as it is.
+  ::setpriority(PRIO_PROCESS, 0, kLowestPriority);
 }
 
 std::string read_fd(int fd) {

@@ -1,5 +1,6 @@
 // The training child (daemon/training_process.hpp): `tofcompd --train-worker ...`, started by the
-// daemon, never by hand. It limits itself first (memory, processor time, death with its parent),
+// daemon, never by hand. It limits itself first (memory, processor time, death with its parent,
+// the lowest priority so that it gives way to the daemon's scans),
 // reads the recording from standard input and the running calibration from fd 3, trains with a
 // held-out part (calibration/held_out_training.hpp) and writes one JSON report to standard
 // output: the calibration's file text, what was held out and the held-out scores. A failure is
