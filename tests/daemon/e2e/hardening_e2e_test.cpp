@@ -353,18 +353,22 @@ TEST(DaemonHardening, ARingPlantedByAnotherUserDoesNotStopTheDaemon) {
     }
     ::_exit(code);
   }
-  // Whatever happens below, the planter is let go and reaped.
+  // Whatever happens below, the planter is let go and reaped, and both names are removed.
   struct Release {
     int fd;
     pid_t pid;
+    std::string planted;
+    std::string alternative;
     ~Release() {
       const char go = 'g';
       [[maybe_unused]] const ssize_t n = ::write(fd, &go, 1);
       ::close(fd);
       ::kill(pid, SIGKILL);
       ::waitpid(pid, nullptr, 0);
+      ::shm_unlink(planted.c_str());
+      ::shm_unlink(alternative.c_str());
     }
-  } release_planter{release[1], planter};
+  } release_planter{release[1], planter, d.shm, alternative};
   ::close(ready[1]);
   ::close(release[0]);
   char byte = 0;
@@ -383,7 +387,6 @@ TEST(DaemonHardening, ARingPlantedByAnotherUserDoesNotStopTheDaemon) {
   EXPECT_NE(latest->sequence, 666u);
   EXPECT_EQ(latest->beams.size(), 361u);
   d.still_serves_and_stops();
-  ::shm_unlink(d.shm.c_str());
   ::close(ready[0]);
 }
 
