@@ -126,7 +126,9 @@ int training_child_main(int argc, char** argv) {
     settings.thermal.datasheet = io::read_datasheet_file(options["--datasheet"]);
     const calibration::HeldOutTraining trained =
         calibration::train_with_held_out(data, settings, running ? &*running : nullptr);
-    const std::string text = report(trained).dump() + "\n";
+    // A file name need not be UTF-8: such bytes are replaced rather than fail the report.
+    const std::string text =
+        report(trained).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() ||
         std::fflush(stdout) != 0) {
       std::fprintf(stderr, "cannot write the report\n");

@@ -86,7 +86,9 @@ std::string describe_status(int status) {
   if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
   if (WIFSIGNALED(status)) {
     const int sig = WTERMSIG(status);
-    return "was killed by signal " + std::to_string(sig) + " (" + ::sigabbrev_np(sig) + ")";
+    const char* name = ::sigabbrev_np(sig);
+    return "was killed by signal " + std::to_string(sig) +
+           (name ? std::string(" (SIG") + name + ")" : "");
   }
   return "ended with wait status " + std::to_string(status);
 }
