@@ -415,6 +415,40 @@ TEST(DaemonHardening, OneDaemonPerRuntimeDirectoryByItsLockNotItsPid) {
   d.still_serves_and_stops();
 }
 
+TEST(DaemonHardening, AReloadThatChangesNothingKeepsEveryWindow) {
+  HardenedDaemon d("reloads");
+  d.start();
+  ipc::socket::SocketClient subscriber(d.socket().string(), 10s);
+  ASSERT_TRUE(
+      subscriber.request({{"op", "subscribe"}, {"beams", {180, 180}}}, 10s).value("ok", false));
+  const auto next_scan = [&] {
+    const auto message = subscriber.read_message(30s);
+    if (!message) throw std::runtime_error("no scan within 30 s");
+    return scan_of(*message);
+  };
+  // The window's estimate is published once it has its minimum of ranges.
+  json scan;
+  for (int i = 0; i < 200; ++i) {
+    scan = next_scan();
+    if (!scan["beams"][0]["window_mm"].is_null()) break;
+  }
+  ASSERT_FALSE(scan["beams"][0]["window_mm"].is_null()) << d.log();
+  // Ten reloads of the same configuration, one every few scans: nothing restarts.
+  for (int reload = 0; reload < 10; ++reload) {
+    const json reply = d.request({{"op", "reload"}});
+    ASSERT_TRUE(reply.value("ok", false)) << reply.dump();
+    EXPECT_NE(reply["message"].get<std::string>().find("calibration 1 from"), std::string::npos)
+        << reply.dump();
+    for (int i = 0; i < 3; ++i) {
+      scan = next_scan();
+      EXPECT_FALSE(scan["beams"][0]["window_mm"].is_null())
+          << "the window restarted after reload " << reload;
+      EXPECT_EQ(scan["calibration_id"], 1);
+    }
+  }
+  d.still_serves_and_stops();
+}
+
 TEST(DaemonHardening, StaleTemporariesOfInterruptedWritesGoAtStart) {
   HardenedDaemon d("stale");
   const auto stale = d.dir.path() / ".calibration.yaml.k3Jq9Z";
