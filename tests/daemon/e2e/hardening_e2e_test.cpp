@@ -5,9 +5,10 @@
 // with an impossible reference distance fails training with its line; a calibration trained on a
 // reference off by 500 mm is not swapped in, and status says why; a training past its time or
 // memory limit is stopped and the daemon runs on; SIGTERM ends the daemon within its bound during
-// a long training; a ring planted by another user does not keep it from starting; stale
-// temporaries go at start; --check-config loads every file it names. After each, the daemon still
-// answers and stops on SIGTERM.
+// a long training; a ring planted by another user does not keep it from starting, nor a dead
+// daemon's pid the next start; reloads that change nothing restart no window; stale temporaries go
+// at start; --check-config loads every file it names. After each, the daemon still answers and
+// stops on SIGTERM.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
