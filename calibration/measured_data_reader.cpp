@@ -10,8 +10,13 @@ MeasuredData read_measured_data(const std::string& file, int beam,
                                 std::vector<std::string>& warnings) {
   const io::MeasurementTable table = io::read_measured_data_file(file);
   warnings.insert(warnings.end(), table.warnings.begin(), table.warnings.end());
+  return measured_data_from_table(table, file, beam);
+}
+
+MeasuredData measured_data_from_table(const io::MeasurementTable& table, const std::string& source,
+                                      int beam) {
   MeasuredData data;
-  data.source = file;
+  data.source = source;
   data.beam = beam;
   const io::BeamRanges ranges = io::beam_ranges(table, beam);
   const auto count = static_cast<Eigen::Index>(ranges.time_s.size());

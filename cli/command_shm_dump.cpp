@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/socket/scan_json.hpp"
+#include "ipc/user_name.hpp"
 
 namespace tofcomp::cli {
 
@@ -29,7 +30,24 @@ struct ShmDumpOptions {
   bool follow = false;
   int count = 0;  // 0: the newest scan, or with --follow every scan until stopped
   std::string beams;
+  std::vector<std::string> owners;  // users whose rings are read; empty: the reader's default
 };
+
+// --owner values, names or uids, as uids; core::InvalidInput for a user that does not exist.
+std::vector<uid_t> owner_uids(const std::vector<std::string>& owners) {
+  std::vector<uid_t> uids;
+  for (const std::string& owner : owners) {
+    if (const auto uid = ipc::user_named(owner)) {
+      uids.push_back(*uid);
+    } else if (!owner.empty() && owner.find_first_not_of("0123456789") == std::string::npos &&
+               owner.size() < 10) {
+      uids.push_back(static_cast<uid_t>(std::stoul(owner)));
+    } else {
+      throw core::InvalidInput("--owner: no user '" + owner + "'");
+    }
+  }
+  return uids;
+}
 
 // SIGINT and SIGTERM set a flag (restoring the previous handlers when done), so that --follow
 // ends its loop and the scans printed so far are summarised.
@@ -150,7 +168,8 @@ CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o,
       told_writer_gone = false;
       if (!common.quiet) {
         std::fprintf(stderr, "shm-dump: the writer re-created %s (generation %llu)\n",
-                     o.name.c_str(), static_cast<unsigned long long>(reader.info().generation));
+                     reader.name().c_str(),
+                     static_cast<unsigned long long>(reader.info().generation));
       }
     }
     if (batch.scans.empty() && !told_writer_gone && !reader.writer_running()) {
@@ -159,7 +178,7 @@ CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o,
         std::fprintf(stderr,
                      "shm-dump: the writer of %s is not running; waiting for it to re-create "
                      "the ring\n",
-                     o.name.c_str());
+                     reader.name().c_str());
       }
     }
     if (batch.lost > 0 && !common.quiet) {
@@ -195,7 +214,13 @@ CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o,
 
 CommandResult shm_dump(const ShmDumpOptions& o, const CommonOptions& common) {
   const std::optional<ipc::socket::BeamRange> range = parse_beam_range(o.beams);
-  ring::RingReader reader(o.name);
+  ring::RingReader reader(o.name, ring::RingReaderOptions{owner_uids(o.owners)});
+  if (const auto foreign = reader.foreign_owner(); foreign && !common.quiet) {
+    std::fprintf(stderr,
+                 "shm-dump: %s belongs to %s, who is not tofcompd: not read; reading %s, where "
+                 "tofcompd publishes when its name is taken\n",
+                 o.name.c_str(), ipc::describe_user(*foreign).c_str(), reader.name().c_str());
+  }
   return o.follow ? follow(reader, o, range, common) : dump_newest(reader, o, range);
 }
 
@@ -211,6 +236,9 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_flag("-f,--follow", o->follow,
                 "Print each new scan until SIGINT/SIGTERM or -n scans (with --json: one "
                 "document at the end)");
+  cmd->add_option("--owner", o->owners,
+                  "A user whose rings are read (name or uid; repeatable). Default: you, root and "
+                  "tofcompd; a ring of anyone else is refused");
   cmd->add_option("-n,--count", o->count,
                   "Scans to print: without --follow the newest N still in the ring")
       ->check(CLI::PositiveNumber);

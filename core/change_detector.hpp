@@ -16,6 +16,7 @@ namespace tofcomp::core {
 struct ChangeDetectorOptions {
   double drift = 1.0;       // ν, in standard deviations: half the smallest shift to detect
   double threshold = 12.0;  // h
+  bool operator==(const ChangeDetectorOptions&) const = default;
 };
 
 class ChangeDetector {

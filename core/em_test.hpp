@@ -24,6 +24,7 @@ struct EmTestOptions {
   double distance_tolerance = 1e-9;  // stop when |Δd| < this (data units)
   int max_iterations = 500;
   bool record_trace = false;
+  bool operator==(const EmTestOptions&) const = default;
 };
 
 struct EmTestResult {

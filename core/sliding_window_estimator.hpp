@@ -54,6 +54,7 @@ struct SlidingWindowOptions {
   EmTestOptions em{MStep::Exact, 1e-6, 50, false};  // Exact only
   int refreshes = 4;                                // Incremental only: E-steps redone per range
   ChangeDetectorOptions change;
+  bool operator==(const SlidingWindowOptions&) const = default;
 };
 
 struct WindowEstimate {

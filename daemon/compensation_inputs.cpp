@@ -34,6 +34,14 @@ void CompensationInputs::use_calibration(std::shared_ptr<const core::Calibration
     spdlog::warn("no calibration configured: publishing raw ranges, flagged uncalibrated");
     return;
   }
+  // The very calibration in use (a reload that changes nothing): no swap, the windows go on.
+  if (const core::Calibration* in_use = pipeline_.calibration();
+      in_use != nullptr && source == calibration_source_ &&
+      io::calibration_to_yaml(*in_use) == io::calibration_to_yaml(*calibration)) {
+    spdlog::info("calibration {} from {} unchanged: kept, its windows go on", calibration_id_,
+                 source);
+    return;
+  }
   pipeline_.set_calibration(std::move(calibration), calibration_id_ + 1);
   ++calibration_id_;
   ++counters_.calibrations_swapped;

@@ -37,7 +37,8 @@ class CompensationInputs {
                      Recordings& recordings);
 
   // Swaps a calibration in (on the loop, between two scans: no scan is lost or mixed); null:
-  // none, ranges are published raw.
+  // none, ranges are published raw. The very calibration in use, from the same source, is kept
+  // as it is (its id and its windows), so that a reload that changes nothing restarts nothing.
   void use_calibration(std::shared_ptr<const core::Calibration> calibration,
                        const std::string& source);
   // The pipeline's settings from a reloaded configuration.

@@ -45,6 +45,7 @@ nlohmann::json Control::status() {
                       {"source", inputs.calibration_source()},
                       {"extension", extension_in_use(inputs.calibration())}};
   s["recalibration"] = modules_.recalibration.state();
+  if (const auto pid = modules_.recalibration.training_pid()) s["training_pid"] = *pid;
   if (nlohmann::json run = modules_.recalibration.run_status(); !run.is_null()) {
     s["calibration_run"] = std::move(run);
   }

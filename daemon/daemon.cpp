@@ -5,6 +5,9 @@
 #include <csignal>
 #include <exception>
 #include <utility>
+#include <vector>
+
+#include "io/atomic_file.hpp"
 
 namespace tofcomp::daemon {
 
@@ -38,8 +41,23 @@ Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file)
       recalibration_(io_, config_,
                      PowerCycleRun::Parts{link_, inputs_, recordings_, service_, clock_}) {
   recordings_.configure(config_.current().recording);
+  remove_stale_temporaries();
   spdlog::info("publishing to shm {} and socket {}", outputs_.ring().name(),
                outputs_.socket_path());
+}
+
+// The temporary files interrupted calibration writes left beside the files the daemon writes
+// (io/atomic_file.hpp): removed at start, before any write.
+void Daemon::remove_stale_temporaries() {
+  const settings::DaemonConfig& c = config_.current();
+  std::vector<std::filesystem::path> files = {c.calibration.file, c.recalibration.output};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    if (files[i].empty() || (i > 0 && files[i] == files[0])) continue;
+    for (const auto& removed : io::remove_stale_temporaries(files[i])) {
+      spdlog::info("removed {}, left by an interrupted write of {}", removed.string(),
+                   files[i].string());
+    }
+  }
 }
 
 Daemon::~Daemon() {

@@ -53,6 +53,7 @@ class Daemon {
  private:
   void watch_signals();
   void schedule_housekeeping();
+  void remove_stale_temporaries();
 
   boost::asio::io_context io_;
   boost::asio::signal_set signals_{io_};

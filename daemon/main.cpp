@@ -8,19 +8,21 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <filesystem>
 #include <string>
 
 #include "core/error.hpp"
+#include "daemon/config_check.hpp"
 #include "daemon/daemon.hpp"
 #include "daemon/service/logging.hpp"
+#include "daemon/training_child.hpp"
 #include "io/version.hpp"
 #include "settings/daemon_config_yaml.hpp"
 #include "settings/embedded_default_config.hpp"
-#include "settings/pipeline_setup.hpp"
 
 int main(int argc, char** argv) {
   using namespace tofcomp::daemon;
+  // The daemon's own training process (daemon/training_child.hpp), never started by hand.
+  if (argc > 1 && std::string(argv[1]) == kTrainWorkerFlag) return training_child_main(argc, argv);
   CLI::App app("tofcompd: temperature and mode-hopping compensation of an LMS 200 (a service)");
   std::string config_file;
   bool check_only = false;
@@ -49,20 +51,7 @@ int main(int argc, char** argv) {
         config_file.empty() ? tofcomp::settings::embedded_default_config()
                             : tofcomp::settings::load_daemon_config(config_file);
     if (check_only) {
-      // The calibration it names, when it exists, as the pipeline would take it (an extension
-      // included): a file the daemon would refuse fails the check.
-      std::string calibration;
-      if (!cfg.calibration.file.empty() && std::filesystem::exists(cfg.calibration.file)) {
-        auto loaded = tofcomp::settings::read_configured_calibration(cfg);
-        tofcomp::realtime::CompensationPipeline pipeline(tofcomp::settings::pipeline_settings(cfg));
-        pipeline.set_calibration(loaded, 1);
-        calibration = "; calibration " + cfg.calibration.file.string() +
-                      (loaded->extension
-                           ? " with the " + loaded->extension->name() +
-                                 " extension"
-                           : std::string());
-      }
-      std::printf("%s: valid%s\n", cfg.source.c_str(), calibration.c_str());
+      std::printf("%s: %s\n", cfg.source.c_str(), check_configuration(cfg).c_str());
       return 0;
     }
     service::configure_logging(cfg.log.target, cfg.log.level);

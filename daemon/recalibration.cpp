@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/checked_file.hpp"
 
 namespace tofcomp::daemon {
 
@@ -23,8 +24,26 @@ Recalibration::~Recalibration() {
 }
 
 void Recalibration::stop() {
-  worker_.join();
+  worker_.stop();
   run_.drop();
+}
+
+namespace {
+
+constexpr std::uint64_t kMib = 1u << 20;
+constexpr const char* kRecordingCap = "recalibration.limits.recording_mib";
+
+}  // namespace
+
+io::CheckedFile Recalibration::open_configured(const std::filesystem::path& data) const {
+  const settings::RecalibrationLimits& limits = config_.current().recalibration.limits;
+  return io::open_checked_file(data, limits.recording_mib * kMib, "recording", kRecordingCap);
+}
+
+io::CheckedFile Recalibration::open_from_client(const std::filesystem::path& named) const {
+  const settings::RecalibrationConfig& r = config_.current().recalibration;
+  return io::open_checked_file_in(r.recordings_directory, named, r.limits.recording_mib * kMib,
+                                  "recording", kRecordingCap, "recalibration.recording.directory");
 }
 
 void Recalibration::start_if_missing() {
@@ -34,7 +53,12 @@ void Recalibration::start_if_missing() {
     return;
   }
   if (recalibration.source == settings::RecalibrationSource::Recording) {
-    start_training(recalibration.data, 0);
+    try {
+      start_training(open_configured(recalibration.data), 0);
+    } catch (const core::Error& e) {
+      state_ = std::string("failed: ") + e.what();
+      spdlog::error("recalibration at start: {}", e.what());
+    }
   } else if (recalibration.source == settings::RecalibrationSource::PowerCycleRun) {
     const std::string refused = start_power_cycle_run();
     if (!refused.empty()) spdlog::error("recalibration at start: {}", refused);
@@ -43,7 +67,7 @@ void Recalibration::start_if_missing() {
 
 socket::RecalibrationResult Recalibration::request(const nlohmann::json& args) {
   const settings::DaemonConfig& config = config_.current();
-  std::filesystem::path data = config.recalibration.data;
+  std::optional<std::filesystem::path> named;
   for (const auto& [key, value] : args.items()) {
     if (key != "recording") {
       throw core::InvalidInput("args." + key + ": unknown; the one argument is recording");
@@ -51,8 +75,7 @@ socket::RecalibrationResult Recalibration::request(const nlohmann::json& args) {
     if (!value.is_string() || value.get<std::string>().empty()) {
       throw core::InvalidInput("args.recording: expected the path of a recording (a string)");
     }
-    // As in the configuration: a relative path is taken from the configuration's directory.
-    data = config_.resolve(value.get<std::string>());
+    named = value.get<std::string>();
   }
   socket::RecalibrationResult r;
   if (worker_.running() || run_.running()) {
@@ -79,25 +102,43 @@ socket::RecalibrationResult Recalibration::request(const nlohmann::json& args) {
       if (r.accepted) r.message = state_;
       return r;
   }
-  if (data.empty()) {
+  if (!named && config.recalibration.data.empty()) {
     r.message = "no recording to train on: set recalibration.recording.data or pass args.recording";
     return r;
   }
-  start_training(data, 0);
+  try {
+    // Opened and checked now, so that the reply says what is wrong with it.
+    start_training(named ? open_from_client(*named) : open_configured(config.recalibration.data),
+                   0);
+  } catch (const core::InvalidInput& e) {
+    r.message = e.what();
+    spdlog::warn("recalibrate refused: {}", e.what());
+    return r;
+  }
   r.accepted = true;
   r.message = state_;
   return r;
 }
 
-// Trains on `beam` of `data` in the worker thread (§3 thermal identification, §5 EM), writes
-// the calibration atomically, and leaves the outcome for finish() on the loop.
-void Recalibration::start_training(std::filesystem::path data, int beam) {
+// Trains on `beam` of `data` in the worker (§3 thermal identification, §5 EM), gates and writes
+// the calibration, and leaves the outcome for finish() on the loop.
+void Recalibration::start_training(io::CheckedFile data, int beam) {
   const settings::DaemonConfig& config = config_.current();
   const std::filesystem::path output =
       config.recalibration.output.empty() ? config.calibration.file : config.recalibration.output;
-  state_ = "training on " + data.string() + ", writing " + output.string();
+  state_ = "training on " + data.path().string() + ", writing " + output.string();
   spdlog::info("recalibration: {}", state_);
-  worker_.start({std::move(data), beam, output, config.recalibration.datasheet});
+  RecalibrationWorker::Job job;
+  job.recording = std::move(data);
+  job.beam = beam;
+  job.output = output;
+  job.datasheet = config.recalibration.datasheet;
+  if (const core::Calibration* running = inputs_.calibration()) {
+    job.running = std::make_shared<const core::Calibration>(*running);
+  }
+  job.limits.time = config.recalibration.limits.time;
+  job.limits.memory_bytes = config.recalibration.limits.memory_mib * kMib;
+  worker_.start(std::move(job));
 }
 
 void Recalibration::finish() {
@@ -108,10 +149,16 @@ void Recalibration::finish() {
     spdlog::error("recalibration {}", state_);
     return;
   }
+  if (!outcome->rejected.empty()) {
+    state_ = "rejected: the new calibration was not swapped in (" + outcome->rejected +
+             "); calibration " + std::to_string(inputs_.calibration_id()) + " stays";
+    spdlog::error("recalibration {}", state_);
+    return;
+  }
   try {
     inputs_.use_calibration(outcome->calibration, outcome->file.string());
     state_ = "done: calibration " + std::to_string(inputs_.calibration_id()) + " from " +
-             outcome->file.string();
+             outcome->file.string() + " (" + outcome->note + ")";
     spdlog::info("recalibration {}", state_);
   } catch (const core::Error& e) {
     state_ = std::string("failed: ") + e.what();
@@ -146,7 +193,12 @@ void Recalibration::on_run_ended(PowerCycleSchedule::Phase phase, const std::str
   }
   const settings::PowerCycleRunConfig& run = run_.config();
   spdlog::info("power-cycle run finished: training on {}", run.recording.string());
-  start_training(run.recording, run.training_beam());
+  try {
+    start_training(open_configured(run.recording), run.training_beam());
+  } catch (const core::Error& e) {
+    state_ = std::string("failed: power-cycle run: ") + e.what();
+    spdlog::error("recalibration {}", state_);
+  }
 }
 
 nlohmann::json Recalibration::run_status() const {

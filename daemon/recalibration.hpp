@@ -1,13 +1,17 @@
 // Recalibration (docs/daemon.md, "Recalibration"): on a recording (measured data with a known
 // distance), or on the recording of a power-cycle run (daemon/power_cycle_run.hpp), trained in
-// the worker thread (daemon/recalibration_worker.hpp) and swapped into the pipeline on the loop,
-// between two scans. Asked for by a client, or at start when the calibration is missing. Owns the
+// the worker (daemon/recalibration_worker.hpp: a process of its own, under limits, then the
+// plausibility gate) and swapped into the pipeline on the loop, between two scans. Asked for by a
+// client, or at start when the calibration is missing. A client names a recording only in
+// recalibration.recording.directory, and only a regular file no larger than the limit is opened
+// (io/checked_file.hpp); the checks are made before the reply, which says what is wrong. Owns the
 // worker, the run and the recalibration's state.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "daemon/compensation_inputs.hpp"
@@ -40,11 +44,18 @@ class Recalibration {
   void run_recording_failed(const std::string& why);
 
   const std::string& state() const { return state_; }
+  // The training process's pid while one runs.
+  std::optional<pid_t> training_pid() const { return worker_.child(); }
   // The calibration run's progress (status.calibration_run); null when none was prepared.
   nlohmann::json run_status() const;
 
  private:
-  void start_training(std::filesystem::path data, int beam);
+  // Opens and checks the configured recording `data` (not a client's): core::InvalidInput if it
+  // is refused.
+  io::CheckedFile open_configured(const std::filesystem::path& data) const;
+  // A client's recording: only in the recordings directory.
+  io::CheckedFile open_from_client(const std::filesystem::path& named) const;
+  void start_training(io::CheckedFile data, int beam);
   std::string start_power_cycle_run();  // empty, or why it cannot start
   void on_run_ended(PowerCycleSchedule::Phase phase, const std::string& why);
 

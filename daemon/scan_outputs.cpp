@@ -6,26 +6,33 @@
 #include <system_error>
 #include <utility>
 
+#include "ipc/user_name.hpp"
+
 namespace tofcomp::daemon {
 
 ScanOutputs::ScanOutputs(boost::asio::io_context& io, const settings::OutputsConfig& config,
                          socket::SocketRequestHandler& requests, ServiceStatus& service)
-    : service_(service), socket_path_(config.socket.path.string()) {
+    : service_(service),
+      socket_path_(config.socket.path.string()),
+      lock_(std::filesystem::absolute(config.socket.path).parent_path()) {
   const auto& shm = config.shm;
-  ring_ = std::make_unique<ipc::ring::RingWriter>(shm.name, static_cast<std::uint32_t>(shm.slots),
-                                                  ipc::ring::kDefaultMaxBeams,
-                                                  ipc::ring::RingWriterOptions{shm.mode, false});
-  const auto& so = config.socket;
-  if (so.path.has_parent_path()) {
-    std::error_code ignored;  // a failure shows when the server binds, naming the path
-    std::filesystem::create_directories(so.path.parent_path(), ignored);
+  ring_ = std::make_unique<ipc::ring::RingWriter>(
+      shm.name, static_cast<std::uint32_t>(shm.slots), ipc::ring::kDefaultMaxBeams,
+      ipc::ring::RingWriterOptions{shm.mode, false, true});
+  if (const auto owner = ring_->foreign_owner()) {
+    spdlog::warn(
+        "shm object '{}' belongs to {}, not to this daemon's user: another user made it, and it is "
+        "left alone; publishing to '{}' instead, where readers look (docs/shm-ring.md)",
+        shm.name, ipc::describe_user(*owner), ring_->name());
   }
+  const auto& so = config.socket;
   socket::SocketServerSettings settings;
   settings.path = socket_path_;
   settings.permissions = so.mode;
   settings.max_clients = static_cast<std::size_t>(so.max_clients);
   settings.max_request_bytes = so.max_request_bytes;
   settings.max_queued_bytes_per_client = so.max_queued_bytes_per_client;
+  settings.idle_timeout = so.idle_timeout;
   server_ = std::make_unique<socket::SocketServer>(
       io, settings, requests, [](socket::SocketLogLevel level, const std::string& message) {
         if (level == socket::SocketLogLevel::Warning) {

@@ -1,7 +1,9 @@
 // Where the compensated scans go: the shared-memory ring (ipc/ring/) and the Unix socket's
 // subscribers (daemon/socket/), and the latest one for the socket's `latest` request; the first
-// published makes the service ready. Owns the ring writer, the socket server, the latest scan and
-// the count of scans published.
+// published makes the service ready. Takes the runtime directory's lock first (one daemon per
+// runtime directory: daemon/instance_lock.hpp). A ring name taken by another user's object is
+// left alone: the ring goes to its alternative name, and the log says so. Owns the lock, the ring
+// writer, the socket server, the latest scan and the count of scans published.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -10,6 +12,7 @@
 #include <optional>
 #include <string>
 
+#include "daemon/instance_lock.hpp"
 #include "daemon/service_status.hpp"
 #include "daemon/socket/request_handler.hpp"
 #include "daemon/socket/socket_server.hpp"
@@ -38,6 +41,7 @@ class ScanOutputs {
  private:
   ServiceStatus& service_;
   std::string socket_path_;
+  InstanceLock lock_;
   std::unique_ptr<ipc::ring::RingWriter> ring_;
   std::unique_ptr<socket::SocketServer> server_;
   std::optional<ipc::CompensatedScan> latest_;

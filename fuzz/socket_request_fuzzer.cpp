@@ -3,7 +3,8 @@
 // ProtocolError and throws nothing else; an error's message is not empty and starts with the
 // field at fault ("name: ..." or "'name': ..."); too_long exactly when the line passes the
 // limit; a parsed request obeys the documented limits; and the reply the server would write
-// for either outcome is one line of valid JSON carrying the right code and id.
+// for either outcome is one line of valid JSON carrying the right code and id. Lines up to the
+// largest max_request_bytes the daemon allows (1 MiB) are tried, deep nesting among them.
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
@@ -13,6 +14,7 @@
 
 #include "ipc/socket/reply.hpp"
 #include "ipc/socket/request.hpp"
+#include "ipc/socket/server_defaults.hpp"
 
 namespace {
 
@@ -53,12 +55,20 @@ void check_error(const ProtocolError& e, std::size_t limit, std::size_t size) {
   check(e.id() ? doc.contains("id") && doc["id"] == *e.id() : !doc.contains("id"));
 }
 
+// The limit of the parse: by the first byte of the input, the default (0-63), the largest the
+// daemon's configuration allows (64-127, where deep nesting and long lines fit), or a small one
+// so that too_long is reached (128-255).
+std::size_t limit_for(std::uint8_t selector) {
+  if (selector < 64) return kDefaultMaxRequestBytes;
+  if (selector < 128) return kLargestMaxRequestBytes;
+  return 64 + selector % 64;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  // The first byte picks the limit: the default, or a small one so that too_long is reached.
   if (size == 0) return 0;
-  const std::size_t limit = data[0] < 128 ? kDefaultMaxRequestBytes : 64 + data[0] % 64;
+  const std::size_t limit = limit_for(data[0]);
   const std::string_view line(reinterpret_cast<const char*>(data + 1), size - 1);
   try {
     check_request(parse_request(line, limit), limit, line.size());

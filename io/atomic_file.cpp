@@ -63,12 +63,22 @@ class DescriptorBuffer : public std::streambuf {
   std::array<char, 1 << 16> buffer_{};
 };
 
+// The temporary file's name beside the target: "." + the target's name + "." + mkstemp's six
+// characters.
+constexpr const char* kTemporarySuffix = ".XXXXXX";
+constexpr std::size_t kTemporaryRandomChars = 6;
+
+std::string temporary_prefix(const std::filesystem::path& target) {
+  return "." + target.filename().string() + ".";
+}
+
 // The temporary file beside the target; removed on destruction unless renamed over it.
 class TemporaryFile {
  public:
   explicit TemporaryFile(const std::filesystem::path& target)
       : target_(target),
-        path_((target.parent_path() / ("." + target.filename().string() + ".XXXXXX")).string()),
+        path_(
+            (target.parent_path() / (temporary_prefix(target) + (kTemporarySuffix + 1))).string()),
         fd_(::mkstemp(path_.data())) {
     if (fd_ < 0) fail(target_, "cannot create a temporary file beside it", errno);
   }
@@ -135,6 +145,30 @@ void write_file_atomically(const std::filesystem::path& file,
   if (buffer.error() != 0) fail(file, "cannot write", buffer.error());
   if (!out) throw core::Error(file.string() + ": the stream failed while writing");
   temporary.commit();
+}
+
+std::vector<std::filesystem::path> remove_stale_temporaries(const std::filesystem::path& file) {
+  std::vector<std::filesystem::path> removed;
+  const std::filesystem::path dir = file.parent_path().empty() ? "." : file.parent_path();
+  const std::string prefix = temporary_prefix(file);
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() != prefix.size() + kTemporaryRandomChars || !name.starts_with(prefix)) continue;
+    const std::string random = name.substr(prefix.size());
+    if (random.find_first_not_of(
+            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789") !=
+        std::string::npos) {
+      continue;
+    }
+    struct stat st {};
+    if (::lstat(entry.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode) ||
+        st.st_uid != ::geteuid()) {
+      continue;
+    }
+    if (::unlink(entry.path().c_str()) == 0) removed.push_back(entry.path());
+  }
+  return removed;
 }
 
 }  // namespace tofcomp::io

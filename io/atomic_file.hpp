@@ -7,6 +7,7 @@
 #include <functional>
 #include <ostream>
 #include <string_view>
+#include <vector>
 
 namespace tofcomp::io {
 
@@ -19,5 +20,11 @@ void write_file_atomically(const std::filesystem::path& file, std::string_view c
 // `write` removes the temporary file, leaves the target as it was, and propagates.
 void write_file_atomically(const std::filesystem::path& file,
                            const std::function<void(std::ostream&)>& write);
+
+// The temporary files a write of `file` interrupted by a crash left beside it (".NAME.XXXXXX",
+// regular files of this user), removed; returns what it removed. Run before any write of `file`
+// starts (tofcompd at start). Another file is never touched; a failure to list or remove is not
+// an error (the files are harmless, only clutter).
+std::vector<std::filesystem::path> remove_stale_temporaries(const std::filesystem::path& file);
 
 }  // namespace tofcomp::io

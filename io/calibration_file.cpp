@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -143,12 +144,16 @@ void write_calibration_file(const std::string& file, const core::Calibration& ca
   write_file_atomically(file, calibration_to_yaml(calibration));
 }
 
-core::Calibration read_calibration_file(const std::string& file) {
+namespace {
+
+// The calibration in a document read from `file` (a file name, or what names the text).
+core::Calibration calibration_from_document(const std::function<YAML::Node()>& load,
+                                            const std::string& file) {
   try {
-    const YAML::Node root = load_yaml_file(file);
-    const YamlMap top(root, "",
-                      {"schema", "version", "provenance", "thermal", "measurement", "extension",
-                       "choices"});
+    const YAML::Node root = load();
+    const YamlMap top(
+        root, "",
+        {"schema", "version", "provenance", "thermal", "measurement", "extension", "choices"});
     if (top.text("schema") != kCalibrationSchema) {
       top.fail("schema",
                std::string("must be ") + kCalibrationSchema + ", not '" + top.text("schema") + "'");
@@ -224,6 +229,16 @@ core::Calibration read_calibration_file(const std::string& file) {
     if (what.rfind(file, 0) == 0) throw;
     throw YamlSchemaError(file + ": " + what);
   }
+}
+
+}  // namespace
+
+core::Calibration read_calibration_file(const std::string& file) {
+  return calibration_from_document([&] { return load_yaml_file(file); }, file);
+}
+
+core::Calibration parse_calibration_yaml(const std::string& text, const std::string& source) {
+  return calibration_from_document([&] { return load_yaml_text(text, source); }, source);
 }
 
 }  // namespace tofcomp::io

@@ -25,5 +25,7 @@ std::string calibration_to_yaml(const core::Calibration& calibration);
 // Throws YamlSchemaError naming the file and key: another schema or version, a missing or
 // unknown key, a value out of range (θ not matching the basis, weights not summing to one).
 core::Calibration read_calibration_file(const std::string& file);
+// The same for the text of a calibration file; `source` names it in errors.
+core::Calibration parse_calibration_yaml(const std::string& text, const std::string& source);
 
 }  // namespace tofcomp::io

@@ -19,9 +19,14 @@
 
 namespace tofcomp::io {
 
+// No line of measured data is longer: a longer one is an error at its line (quoting its start),
+// read no further, so that a line of a gigabyte costs no more memory than this.
+inline constexpr std::size_t kMaxMeasuredDataLineBytes = 1u << 16;
+
 // Reads a whole file in one pass, in time and memory linear in its size. Throws
 // MeasuredDataFileError naming `source_name`, the 1-based line and the column at the first
-// fault; core::Error if the stream fails. Unknown columns give one warning in the result.
+// fault (a line longer than kMaxMeasuredDataLineBytes included); core::Error if the stream fails.
+// Unknown columns give one warning in the result.
 MeasurementTable read_measured_data(std::istream& in, std::string_view source_name);
 
 // The same from a file; core::Error if it cannot be opened.

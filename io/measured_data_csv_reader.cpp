@@ -22,6 +22,65 @@ void split_cells(std::string_view line, std::vector<std::string_view>& cells) {
   }
 }
 
+// The lines of a stream, each at most max_bytes long: a longer one is an error at its line,
+// quoting its start, and nothing more of it is read.
+class BoundedLines {
+ public:
+  BoundedLines(std::istream& in, std::string_view source, std::size_t max_bytes)
+      : in_(in), source_(source), max_bytes_(max_bytes) {}
+
+  // The next line without its '\n' (valid until the next call); false at the end.
+  bool next(std::string_view& line, long number) {
+    for (;;) {
+      const std::size_t newline = buffer_.find('\n', scanned_);
+      if (newline != std::string::npos) {
+        check_length(newline - start_, number);
+        line = std::string_view(buffer_).substr(start_, newline - start_);
+        start_ = scanned_ = newline + 1;
+        return true;
+      }
+      check_length(buffer_.size() - start_, number);
+      if (ended_) {
+        if (start_ == buffer_.size()) return false;
+        line = std::string_view(buffer_).substr(start_);
+        start_ = scanned_ = buffer_.size();
+        return true;
+      }
+      buffer_.erase(0, start_);
+      scanned_ = buffer_.size();
+      start_ = 0;
+      const std::size_t had = buffer_.size();
+      buffer_.resize(had + kChunkBytes);
+      in_.read(buffer_.data() + had, static_cast<std::streamsize>(kChunkBytes));
+      buffer_.resize(had + static_cast<std::size_t>(in_.gcount()));
+      if (in_.bad()) {
+        throw core::Error(std::string(source_) + ": the stream failed while reading");
+      }
+      ended_ = !in_;
+    }
+  }
+
+ private:
+  static constexpr std::size_t kChunkBytes = 1u << 16;
+  static constexpr std::size_t kQuotedStartBytes = 40;
+
+  void check_length(std::size_t length, long number) const {
+    if (length <= max_bytes_) return;
+    MeasurementPlace{source_, number}.fail(
+        "", "a line longer than " + std::to_string(max_bytes_) + " bytes (it starts '" +
+                std::string(std::string_view(buffer_).substr(start_, kQuotedStartBytes)) +
+                "...'); no line of measured data is that long, and it is not read");
+  }
+
+  std::istream& in_;
+  std::string_view source_;
+  std::size_t max_bytes_;
+  std::string buffer_;
+  std::size_t start_ = 0;    // where the next line starts in buffer_
+  std::size_t scanned_ = 0;  // buffer_ holds no '\n' from start_ up to here
+  bool ended_ = false;
+};
+
 class MeasurementCsvReader {
  public:
   explicit MeasurementCsvReader(std::string_view source) : source_(source) {}
@@ -145,15 +204,14 @@ class MeasurementCsvReader {
 
 MeasurementTable read_measured_data(std::istream& in, std::string_view source_name) {
   MeasurementCsvReader reader(source_name);
-  std::string line;
+  BoundedLines lines(in, source_name, kMaxMeasuredDataLineBytes);
+  std::string_view text;
   long number = 0;
-  while (std::getline(in, line)) {
+  while (lines.next(text, number + 1)) {
     ++number;
-    std::string_view text(line);
     if (text.ends_with('\r')) text.remove_suffix(1);
     reader.take_line(text, number);
   }
-  if (in.bad()) throw core::Error(std::string(source_name) + ": the stream failed while reading");
   return std::move(reader).finish(number);
 }
 

@@ -9,10 +9,17 @@
 namespace tofcomp::io {
 namespace {
 
+// A cell as a message quotes it: whole when short, else its first kQuotedCellBytes bytes and
+// its length, so that a cell of a gigabyte makes a message of a line.
+constexpr std::size_t kQuotedCellBytes = 40;
+
 std::string quoted(std::string_view text) {
   std::string out = "'";
-  out.append(text).append("'");
-  return out;
+  if (text.size() <= kQuotedCellBytes) return out.append(text).append("'");
+  return out.append(text.substr(0, kQuotedCellBytes))
+      .append("...' (a cell of ")
+      .append(std::to_string(text.size()))
+      .append(" bytes)");
 }
 
 template <typename Number>

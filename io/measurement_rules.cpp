@@ -3,6 +3,7 @@
 #include <cmath>
 #include <unordered_set>
 
+#include "core/lms200_limits.hpp"
 #include "io/measurement_cells.hpp"
 #include "io/measurement_columns.hpp"
 
@@ -30,6 +31,26 @@ std::string number_text(double value) {
   return text;
 }
 
+// A range the device can report, and a reference distance it can see (core/lms200_limits.hpp).
+void check_device_limits(const MeasurementRow& row, const MeasurementPlace& at) {
+  using core::lms200::kMaxRangeMm;
+  using core::lms200::kMinReferenceMm;
+  const std::string limit = number_text(kMaxRangeMm);
+  if (row.range_mm && (*row.range_mm < 0.0 || *row.range_mm > kMaxRangeMm)) {
+    at.fail(column_name(MeasurementColumn::Range), number_text(*row.range_mm) +
+                                                       " mm is outside 0.." + limit +
+                                                       " mm, the ranges an LMS 200 reports");
+  }
+  if (row.true_range_mm &&
+      (*row.true_range_mm <= kMinReferenceMm || *row.true_range_mm > kMaxRangeMm)) {
+    at.fail(column_name(MeasurementColumn::TrueRange),
+            number_text(*row.true_range_mm) +
+                " mm is no distance an LMS 200 measures: a reference distance is more than 0 "
+                "and at most " +
+                limit + " mm");
+  }
+}
+
 }  // namespace
 
 void RowSequenceRules::admit(const MeasurementRow& row, const MeasurementPlace& at) {
@@ -43,6 +64,7 @@ void RowSequenceRules::admit(const MeasurementRow& row, const MeasurementPlace& 
   check_finite(row.case_temp_c, MeasurementColumn::CaseTemp, at);
   check_finite(row.ambient_c, MeasurementColumn::Ambient, at);
   check_finite(row.true_range_mm, MeasurementColumn::TrueRange, at);
+  check_device_limits(row, at);
   if (row.beam && *row.beam < 0) {
     at.fail(column_name(MeasurementColumn::Beam), "a beam index must not be negative");
   }

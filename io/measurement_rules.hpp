@@ -14,7 +14,9 @@
 namespace tofcomp::io {
 
 // What a row must satisfy given the rows before it: time_s finite and never decreasing (ties
-// allowed), every number finite, a beam non-negative, no range_mm while the power is off. The
+// allowed), every number finite, range_mm within what an LMS 200 reports (0 to 81910 mm) and
+// true_range_mm a distance it measures (more than 0, at most 81910 mm; core/lms200_limits.hpp),
+// a beam non-negative, no range_mm while the power is off. The
 // power a row sets is in force for that row's own range. One instance follows one sequence.
 class RowSequenceRules {
  public:

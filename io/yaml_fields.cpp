@@ -1,7 +1,14 @@
 #include "io/yaml_fields.hpp"
 
+#include <yaml-cpp/eventhandler.h>
+
+#include <algorithm>
 #include <cmath>
+#include <optional>
+#include <set>
 #include <sstream>
+
+#include "io/checked_file.hpp"
 
 namespace tofcomp::io {
 
@@ -96,28 +103,130 @@ std::string YamlMap::text_or(std::string_view key, std::string fallback) const {
 
 namespace {
 
+// No file of the project's YAML (calibration, datasheet, scenario) comes near these: beyond
+// them a document is refused before it can cost much (a deep, long or alias-multiplied one).
+constexpr std::uint64_t kMaxYamlFileBytes = 16u << 20;
+constexpr int kMaxYamlDepth = 32;
+constexpr long kMaxYamlValues = 1000000;
+
+std::string position(const std::string& source, const YAML::Mark& mark) {
+  if (mark.is_null()) return source;
+  return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+}
+
 [[noreturn]] void syntax_error(const std::string& source, const YAML::ParserException& e) {
-  std::ostringstream msg;
-  msg << source << ":" << e.mark.line + 1 << ":" << e.mark.column + 1
-      << ": YAML syntax error: " << e.msg;
-  throw YamlSchemaError(msg.str());
+  throw YamlSchemaError(position(source, e.mark) + ": YAML syntax error: " + e.msg);
+}
+
+// Takes the parser's events without building anything; remembers where a document starts.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  std::optional<YAML::Mark> last_start;
+
+  void OnDocumentStart(const YAML::Mark& mark) override { last_start = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
+// What YamlMap cannot see once the document is built: a key given twice in one mapping (YAML
+// forbids it; yaml-cpp would keep one silently), a key that is not plain text, nesting or size
+// beyond any file of ours.
+class ShapeCheck {
+ public:
+  explicit ShapeCheck(const std::string& source) : source_(source) {}
+
+  void check(const YAML::Node& node, const std::string& path, int depth) {
+    if (depth > kMaxYamlDepth) {
+      throw YamlSchemaError(position(source_, node.Mark()) + ": " + path + " nests deeper than " +
+                            std::to_string(kMaxYamlDepth) + " levels");
+    }
+    if (++values_ > kMaxYamlValues) {
+      throw YamlSchemaError(source_ + ": holds more than " + std::to_string(kMaxYamlValues) +
+                            " values (aliases counted each time)");
+    }
+    if (node.IsMap()) {
+      std::set<std::string> seen;
+      for (const auto& entry : node) {
+        if (!entry.first.IsScalar()) {
+          throw YamlSchemaError(position(source_, entry.first.Mark()) + ": " +
+                                (path.empty() ? std::string("the document") : path) +
+                                " has a key that is not plain text");
+        }
+        const std::string& key = entry.first.Scalar();
+        const std::string child = path.empty() ? key : path + "." + key;
+        if (!seen.insert(key).second) {
+          throw YamlSchemaError(position(source_, entry.first.Mark()) + ": " + child +
+                                " is given twice");
+        }
+        check(entry.second, child, depth + 1);
+      }
+    } else if (node.IsSequence()) {
+      for (std::size_t i = 0; i < node.size(); ++i) {
+        check(node[i], path + "[" + std::to_string(i) + "]", depth + 1);
+      }
+    }
+  }
+
+ private:
+  const std::string& source_;
+  long values_ = 0;
+};
+
+// The line and column of byte `offset` of text, as YAML marks count them (from 0).
+YAML::Mark mark_at(const std::string& text, std::size_t offset) {
+  YAML::Mark mark;
+  mark.pos = static_cast<int>(offset);
+  mark.line = static_cast<int>(
+      std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(offset), '\n'));
+  const std::size_t line_start = text.rfind('\n', offset == 0 ? 0 : offset - 1);
+  mark.column = static_cast<int>(
+      line_start == std::string::npos || offset == 0 ? offset : offset - line_start - 1);
+  return mark;
 }
 
 }  // namespace
 
 YAML::Node load_yaml_file(const std::string& file) {
+  std::string text;
   try {
-    return YAML::LoadFile(file);
-  } catch (const YAML::BadFile&) {
-    throw YamlSchemaError(file + ": cannot be opened");
-  } catch (const YAML::ParserException& e) {
-    syntax_error(file, e);
+    const CheckedFile checked =
+        open_checked_file(file, kMaxYamlFileBytes, "YAML file", "the largest YAML file read");
+    text = read_checked_file(checked, kMaxYamlFileBytes, "YAML file", "the largest YAML file read");
+  } catch (const core::Error& e) {
+    throw YamlSchemaError(file + ": cannot be opened: " + e.what());
   }
+  return load_yaml_text(text, file);
 }
 
 YAML::Node load_yaml_text(const std::string& text, const std::string& source) {
+  if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {
+    throw YamlSchemaError(position(source, mark_at(text, nul)) +
+                          ": a NUL byte: a YAML file is text, and what follows a NUL would be "
+                          "lost");
+  }
   try {
-    return YAML::Load(text);
+    // At most two documents are asked for: the second is an error wherever it comes from.
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    DocumentStarts starts;
+    if (parser.HandleNextDocument(starts) && parser.HandleNextDocument(starts)) {
+      throw YamlSchemaError(
+          position(source, starts.last_start.value_or(YAML::Mark::null_mark())) +
+          ": YAML syntax error: text after the end of the document (a second document, or a "
+          "line YAML cannot read)");
+    }
+    const YAML::Node document = YAML::Load(text);
+    ShapeCheck(source).check(document, "", 0);
+    return document;
   } catch (const YAML::ParserException& e) {
     syntax_error(source, e);
   }

@@ -53,7 +53,9 @@ class YamlMap {
 };
 
 // Loads a YAML file; a missing file or a syntax error is a YamlSchemaError naming the file and
-// the line.
+// the line. Strict beyond YAML's syntax: the file must be a regular file of at most 16 MiB
+// (io/checked_file.hpp: no FIFO, device or link), hold one document, no NUL byte, no key twice in
+// a mapping, no key that is not plain text, and nest no deeper than 32 levels.
 YAML::Node load_yaml_file(const std::string& file);
 // The same for text in memory; `source` names it in errors.
 YAML::Node load_yaml_text(const std::string& text, const std::string& source);

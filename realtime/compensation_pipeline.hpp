@@ -22,6 +22,7 @@ struct PipelineSettings {
                                     .refreshes = 4,
                                     .change = {}};
   JunctionTrackerSettings junction;
+  bool operator==(const PipelineSettings&) const = default;
 };
 
 class CompensationPipeline {
@@ -35,7 +36,7 @@ class CompensationPipeline {
   // Back to publishing raw ranges, flagged uncalibrated.
   void clear_calibration();
   // New settings (a reload): windows restart; the junction filter keeps its state unless its
-  // settings changed.
+  // settings changed. Settings equal to those in force change nothing.
   void set_settings(const PipelineSettings& settings);
 
   void on_case_reading(double time_s, double case_c);

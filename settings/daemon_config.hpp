@@ -20,6 +20,8 @@
 #include "hal/lms2xx/commands.hpp"
 #include "hal/lms2xx/measuring_mode.hpp"
 #include "hal/sensors/sensor_config.hpp"
+#include "ipc/socket/protocol_constants.hpp"
+#include "ipc/socket/server_defaults.hpp"
 #include "settings/log_settings.hpp"
 #include "sim/lms200/fault_injector.hpp"
 
@@ -98,13 +100,15 @@ struct CompensationConfig {
   core::SlidingWindowOptions window;
 };
 
-// `outputs.socket`: the Unix socket of JSON lines.
+// `outputs.socket`: the Unix socket of JSON lines. The defaults are the socket server's own
+// (ipc/socket/server_defaults.hpp).
 struct SocketOutputConfig {
-  std::filesystem::path path = "/run/tofcompd/tofcompd.sock";
-  unsigned mode = 0660;
-  int max_clients = 16;
-  std::size_t max_request_bytes = 4096;
-  std::size_t max_queued_bytes_per_client = 1 << 20;
+  std::filesystem::path path = ipc::socket::kDefaultSocketPath;
+  unsigned mode = ipc::socket::kDefaultSocketMode;
+  int max_clients = static_cast<int>(ipc::socket::kDefaultMaxClients);
+  std::size_t max_request_bytes = ipc::socket::kDefaultMaxRequestBytes;
+  std::size_t max_queued_bytes_per_client = ipc::socket::kDefaultMaxQueuedBytesPerClient;
+  std::chrono::seconds idle_timeout = ipc::socket::kDefaultIdleTimeout;  // key idle_timeout_s
 };
 
 // `outputs.shm`: the POSIX shared-memory ring.
@@ -146,6 +150,21 @@ struct PowerCycleRunConfig {
   int training_beam() const { return (beams.first + beams.last) / 2; }
 };
 
+// `recalibration.limits`: what one training may take (docs/daemon.md, "Recalibration").
+inline constexpr std::chrono::seconds kDefaultTrainingTime{1800};
+inline constexpr std::chrono::seconds kLargestTrainingTime{86400};
+inline constexpr std::uint64_t kDefaultTrainingMemoryMib = 2048;
+inline constexpr std::uint64_t kSmallestTrainingMemoryMib = 256;
+inline constexpr std::uint64_t kLargestTrainingMemoryMib = 1u << 16;
+inline constexpr std::uint64_t kDefaultRecordingMib = 256;
+inline constexpr std::uint64_t kLargestRecordingMib = 4096;
+struct RecalibrationLimits {
+  std::chrono::seconds time = kDefaultTrainingTime;      // key time_s: then the training stops
+  std::uint64_t memory_mib = kDefaultTrainingMemoryMib;  // the training process's address space
+  std::uint64_t recording_mib = kDefaultRecordingMib;    // the largest recording trained on
+  bool operator==(const RecalibrationLimits&) const = default;
+};
+
 // `recalibration`: where a new calibration comes from and when it is made.
 struct RecalibrationConfig {
   RecalibrationSource source = RecalibrationSource::None;
@@ -153,6 +172,10 @@ struct RecalibrationConfig {
   std::filesystem::path datasheet;  // Algorithm 1's datasheet values; required unless none
   std::filesystem::path output;     // where the calibration is written; default calibration.file
   std::filesystem::path data;       // source recording: the interchange CSV to train on
+  // source recording: the one directory a client's recalibrate may name a recording in (key
+  // recording.directory); by default the directory of `data`.
+  std::filesystem::path recordings_directory;
+  RecalibrationLimits limits;
   PowerCycleRunConfig power_cycle_run;  // source power_cycle_run
 };
 

@@ -123,6 +123,8 @@ class RestartKeys {
             [](const DaemonConfig& c) { return c.outputs.socket.max_request_bytes; });
     compare("outputs.socket.max_queued_bytes_per_client",
             [](const DaemonConfig& c) { return c.outputs.socket.max_queued_bytes_per_client; });
+    compare("outputs.socket.idle_timeout_s",
+            [](const DaemonConfig& c) { return c.outputs.socket.idle_timeout.count(); });
     compare("outputs.shm.name", [](const DaemonConfig& c) { return c.outputs.shm.name; });
     compare("outputs.shm.slots", [](const DaemonConfig& c) { return c.outputs.shm.slots; });
     compare("outputs.shm.mode", [](const DaemonConfig& c) { return c.outputs.shm.mode; });

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/checked_file.hpp"
 #include "io/yaml_fields.hpp"
 #include "settings/section_parsers.hpp"
 #include "settings/yaml_document.hpp"
@@ -24,6 +25,7 @@ namespace {
 // alias-multiplied document ("billion laughs") costs little.
 constexpr int kMaxDepth = 16;
 constexpr long kMaxValues = 100000;
+constexpr std::uint64_t kMaxConfigBytes = 1u << 20;
 
 std::string child(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
@@ -129,22 +131,23 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
 
 DaemonConfig load_daemon_config(const std::filesystem::path& file) {
   const std::string source = file.string();
-  std::error_code error;
-  if (std::filesystem::is_directory(file, error)) {
-    throw DaemonConfigError(source + ": cannot be read: it is a directory");
+  std::string text;
+  try {
+    // A regular file (a FIFO would block the daemon), of a size no configuration comes near.
+    const io::CheckedFile checked =
+        io::open_checked_file(file, kMaxConfigBytes, "configuration", "the largest configuration");
+    text = io::read_checked_file(checked, kMaxConfigBytes, "configuration",
+                                 "the largest configuration");
+  } catch (const core::Error& e) {
+    throw DaemonConfigError(source + ": cannot be read: " + e.what());
   }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw DaemonConfigError(source + ": cannot be read: " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw DaemonConfigError(source + ": cannot be read: " + std::strerror(errno));
   std::filesystem::path base;
   try {
     base = std::filesystem::absolute(file).parent_path();
   } catch (const std::filesystem::filesystem_error& e) {
     throw DaemonConfigError(source + ": " + e.what());
   }
-  return parse_daemon_config(text.str(), source, base);
+  return parse_daemon_config(text, source, base);
 }
 
 }  // namespace tofcomp::settings

@@ -25,13 +25,23 @@ void parse_socket(const io::YamlMap& map, const ParseContext& context, SocketOut
                          std::to_string(kMaxSocketPathBytes));
   }
   out.mode = fields::octal_mode(map, "mode", out.mode);
-  out.max_clients =
-      static_cast<int>(fields::integer(map, "max_clients", between(1, 1024), out.max_clients));
-  out.max_request_bytes = static_cast<std::size_t>(fields::integer(
-      map, "max_request_bytes", between(64, 1 << 20), static_cast<long>(out.max_request_bytes)));
+  namespace limits = ipc::socket;
+  out.max_clients = static_cast<int>(fields::integer(
+      map, "max_clients", between(1, static_cast<double>(limits::kLargestMaxClients)),
+      out.max_clients));
+  out.max_request_bytes = static_cast<std::size_t>(
+      fields::integer(map, "max_request_bytes",
+                      between(static_cast<double>(limits::kSmallestMaxRequestBytes),
+                              static_cast<double>(limits::kLargestMaxRequestBytes)),
+                      static_cast<long>(out.max_request_bytes)));
   out.max_queued_bytes_per_client = static_cast<std::size_t>(
-      fields::integer(map, "max_queued_bytes_per_client", between(4096, 1L << 30),
+      fields::integer(map, "max_queued_bytes_per_client",
+                      between(static_cast<double>(limits::kSmallestMaxQueuedBytesPerClient),
+                              static_cast<double>(limits::kLargestMaxQueuedBytesPerClient)),
                       static_cast<long>(out.max_queued_bytes_per_client)));
+  out.idle_timeout = std::chrono::seconds(fields::integer(
+      map, "idle_timeout_s", between(1, static_cast<double>(limits::kLargestIdleTimeout.count())),
+      static_cast<long>(out.idle_timeout.count())));
 }
 
 void parse_shm(const io::YamlMap& map, ShmOutputConfig& out) {
@@ -56,9 +66,9 @@ void parse_shm(const io::YamlMap& map, ShmOutputConfig& out) {
 void parse_outputs(const io::YamlMap& root, const ParseContext& context, OutputsConfig& out) {
   const auto outputs = fields::section(root, "outputs", {"socket", "shm"});
   if (!outputs) return;
-  if (const auto socket = fields::section(
-          *outputs, "socket",
-          {"path", "mode", "max_clients", "max_request_bytes", "max_queued_bytes_per_client"})) {
+  if (const auto socket = fields::section(*outputs, "socket",
+                                          {"path", "mode", "max_clients", "max_request_bytes",
+                                           "max_queued_bytes_per_client", "idle_timeout_s"})) {
     parse_socket(*socket, context, out.socket);
   }
   if (const auto shm = fields::section(*outputs, "shm", {"name", "slots", "mode"})) {

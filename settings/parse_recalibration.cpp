@@ -40,14 +40,28 @@ void parse_power_cycle_run(const io::YamlMap& map, const ParseContext& context,
   out.recording = fields::required_path(map, "recording", context.base_directory);
 }
 
+void parse_limits(const io::YamlMap& map, RecalibrationLimits& out) {
+  out.time = std::chrono::seconds(
+      fields::integer(map, "time_s", between(1, static_cast<double>(kLargestTrainingTime.count())),
+                      static_cast<long>(out.time.count())));
+  out.memory_mib = static_cast<std::uint64_t>(
+      fields::integer(map, "memory_mib",
+                      between(static_cast<double>(kSmallestTrainingMemoryMib),
+                              static_cast<double>(kLargestTrainingMemoryMib)),
+                      static_cast<long>(out.memory_mib)));
+  out.recording_mib = static_cast<std::uint64_t>(
+      fields::integer(map, "recording_mib", between(1, static_cast<double>(kLargestRecordingMib)),
+                      static_cast<long>(out.recording_mib)));
+}
+
 }  // namespace
 
 void parse_recalibration(const io::YamlMap& root, const ParseContext& context,
                          const CalibrationConfig& calibration, RecalibrationConfig& out) {
   out.output = calibration.file;
-  const auto map =
-      fields::section(root, "recalibration",
-                      {"source", "trigger", "datasheet", "output", "recording", "power_cycle_run"});
+  const auto map = fields::section(
+      root, "recalibration",
+      {"source", "trigger", "datasheet", "output", "recording", "power_cycle_run", "limits"});
   if (!map) return;
   out.source =
       fields::choice<RecalibrationSource>(*map, "source",
@@ -70,9 +84,16 @@ void parse_recalibration(const io::YamlMap& root, const ParseContext& context,
                       ? fields::path(*map, "datasheet", context.base_directory, {})
                       : fields::required_path(*map, "datasheet", context.base_directory);
   out.output = fields::path(*map, "output", context.base_directory, out.output);
+  if (const auto limits =
+          fields::section(*map, "limits", {"time_s", "memory_mib", "recording_mib"})) {
+    parse_limits(*limits, out.limits);
+  }
   if (out.source == RecalibrationSource::Recording) {
-    const io::YamlMap recording(map->node("recording"), map->child_path("recording"), {"data"});
+    const io::YamlMap recording(map->node("recording"), map->child_path("recording"),
+                                {"data", "directory"});
     out.data = fields::required_path(recording, "data", context.base_directory);
+    out.recordings_directory =
+        fields::path(recording, "directory", context.base_directory, out.data.parent_path());
   } else if (out.source == RecalibrationSource::PowerCycleRun) {
     const io::YamlMap run(map->node("power_cycle_run"), map->child_path("power_cycle_run"),
                           {"cycles", "on_s", "off_s", "true_range_mm", "beams", "recording"});

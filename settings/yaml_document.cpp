@@ -3,6 +3,7 @@
 
 #include <yaml-cpp/eventhandler.h>
 
+#include <algorithm>
 #include <optional>
 #include <sstream>
 
@@ -39,6 +40,17 @@ std::string yaml_position(const std::string& source, const YAML::Mark& mark) {
 }
 
 YAML::Node load_single_yaml_document(std::string_view text, const std::string& source) {
+  if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos) {
+    YAML::Mark mark;
+    mark.line = static_cast<int>(
+        std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(nul), '\n'));
+    const std::size_t line_start = nul == 0 ? std::string_view::npos : text.rfind('\n', nul - 1);
+    mark.column =
+        static_cast<int>(line_start == std::string_view::npos ? nul : nul - line_start - 1);
+    throw DaemonConfigError(yaml_position(source, mark) +
+                            ": a NUL byte: a configuration is text, and what follows a NUL would "
+                            "be lost");
+  }
   const std::string copy(text);
   try {
     // At most two documents are asked for: the second is an error wherever it comes from.

@@ -1,6 +1,7 @@
 #include "sim/scenario_yaml.hpp"
 
 #include <filesystem>
+#include <functional>
 
 #include "io/yaml_fields.hpp"
 
@@ -133,10 +134,10 @@ std::optional<Effect> read_effect(
 TwinEffects read_effects(const YamlMap& parent) {
   TwinEffects fx;
   if (!parent.has("effects")) return fx;
-  const YamlMap m(parent.node("effects"), parent.child_path("effects"),
-                  {"mode_persistence", "temperature_dependent_weights",
-                   "temperature_dependent_spread", "outliers", "heating_hysteresis", "time_drift",
-                   "warm_up"});
+  const YamlMap m(
+      parent.node("effects"), parent.child_path("effects"),
+      {"mode_persistence", "temperature_dependent_weights", "temperature_dependent_spread",
+       "outliers", "heating_hysteresis", "time_drift", "warm_up"});
   fx.mode_persistence = read_effect<ModePersistence>(
       m, "mode_persistence", {{"stay_probability", &ModePersistence::stay_probability}});
   fx.temperature_dependent_weights = read_effect<TemperatureDependentWeights>(
@@ -168,10 +169,12 @@ YAML::Node merged(const YAML::Node& base, const YAML::Node& override) {
   return out;
 }
 
-// The scenario's document with its `base:` chain (paths relative to the file) applied.
-YAML::Node load_with_base(const std::string& file, int depth) {
+YAML::Node load_with_base(const std::string& file, int depth);
+
+// The scenario's document `root`, read from `file`, with its `base:` chain (paths relative to
+// the file) applied.
+YAML::Node with_base(YAML::Node root, const std::string& file, int depth) {
   constexpr int kMaxBaseDepth = 8;
-  YAML::Node root = io::load_yaml_file(file);
   if (!root.IsMap() || !root["base"]) return root;
   if (depth >= kMaxBaseDepth) throw io::YamlSchemaError(file + ": base: chain is too deep");
   if (!root["base"].IsScalar()) throw io::YamlSchemaError(file + ": base must be a file name");
@@ -182,11 +185,14 @@ YAML::Node load_with_base(const std::string& file, int depth) {
   return merged(load_with_base(base_file.string(), depth + 1), own);
 }
 
-}  // namespace
+YAML::Node load_with_base(const std::string& file, int depth) {
+  return with_base(io::load_yaml_file(file), file, depth);
+}
 
-Scenario load_scenario_file(const std::string& file) {
+// The scenario in the document `load` gives, read from `file`.
+Scenario scenario_from(const std::function<YAML::Node()>& load, const std::string& file) {
   try {
-    const YAML::Node root = load_with_base(file, 0);
+    const YAML::Node root = load();
     const YamlMap m(root, "",
                     {"name", "seed", "thermal", "power", "ambient", "initial_case_c", "sensor",
                      "true_range_mm", "bias", "modes", "scanner", "range_period_s", "effects"});
@@ -215,6 +221,17 @@ Scenario load_scenario_file(const std::string& file) {
   } catch (const core::InvalidInput& e) {
     throw io::YamlSchemaError(file + ": " + e.what());
   }
+}
+
+}  // namespace
+
+Scenario load_scenario_file(const std::string& file) {
+  return scenario_from([&] { return load_with_base(file, 0); }, file);
+}
+
+Scenario parse_scenario_yaml(const std::string& text, const std::string& source) {
+  return scenario_from([&] { return with_base(io::load_yaml_text(text, source), source, 0); },
+                       source);
 }
 
 }  // namespace tofcomp::sim

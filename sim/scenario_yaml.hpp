@@ -9,5 +9,8 @@
 namespace tofcomp::sim {
 
 Scenario load_scenario_file(const std::string& file);
+// The same for a scenario's text; `source` names it in errors, and a `base:` in it is taken
+// from the directory of `source`.
+Scenario parse_scenario_yaml(const std::string& text, const std::string& source);
 
 }  // namespace tofcomp::sim

@@ -1,4 +1,4 @@
-// A client connection's read and write coroutines.
+// A client connection's read, write and idle coroutines.
 #include "daemon/socket/client_connection.hpp"
 
 #include <array>
@@ -10,23 +10,30 @@ namespace tofcomp::daemon::socket {
 namespace asio = boost::asio;
 using asio::awaitable;
 using asio::use_awaitable;
+using Clock = std::chrono::steady_clock;
 
 namespace {
 constexpr std::size_t kReadChunk = 4096;
 constexpr std::size_t kLinesPerWrite = 32;  // queued lines gathered into one write
 }  // namespace
 
-ClientConnection::ClientConnection(Stream stream, std::uint64_t number, std::size_t max_line_bytes,
-                                   Owner& owner)
+ClientConnection::ClientConnection(Stream stream, std::uint64_t number, Limits limits, Owner& owner)
     : stream_(std::move(stream)),
       number_(number),
-      max_line_bytes_(max_line_bytes),
+      limits_(limits),
       owner_(owner),
-      timer_(stream_.get_executor()) {}
+      peer_(peer_credentials(stream_.native_handle())),
+      timer_(stream_.get_executor()),
+      resume_timer_(stream_.get_executor()),
+      idle_timer_(stream_.get_executor()),
+      last_line_(Clock::now()) {}
 
 void ClientConnection::start() {
   asio::co_spawn(stream_.get_executor(), read_loop(shared_from_this()), asio::detached);
   asio::co_spawn(stream_.get_executor(), write_loop(shared_from_this()), asio::detached);
+  if (limits_.idle_timeout.count() > 0) {
+    asio::co_spawn(stream_.get_executor(), idle_watch(shared_from_this()), asio::detached);
+  }
 }
 
 bool ClientConnection::fits(std::size_t bytes, std::size_t bound) const {
@@ -43,7 +50,9 @@ void ClientConnection::push(std::shared_ptr<const std::string> line) {
 void ClientConnection::close_after_flush() {
   if (!accepting()) return;
   draining_ = true;
+  received_.clear();
   timer_.cancel();
+  resume_timer_.cancel();
 }
 
 void ClientConnection::close(const std::string& why, bool notify_owner) {
@@ -52,26 +61,32 @@ void ClientConnection::close(const std::string& why, bool notify_owner) {
   boost::system::error_code ignored;
   stream_.close(ignored);
   timer_.cancel();
+  resume_timer_.cancel();
+  idle_timer_.cancel();
   const std::size_t unwritten = queued_bytes_;
   queue_.clear();
   queued_bytes_ = 0;
+  received_.clear();
   if (notify_owner) owner_.on_closed(*this, why, unwritten);
 }
 
-void ClientConnection::take(std::string_view bytes) {
-  partial_.append(bytes);
+void ClientConnection::answer_received() {
   std::size_t start = 0;
-  const std::size_t searched = partial_.size() - bytes.size();
-  for (std::size_t newline = partial_.find('\n', searched); newline != std::string::npos;
-       newline = partial_.find('\n', start)) {
-    std::string_view line(partial_.data() + start, newline - start);
+  while (accepting() && !paused()) {
+    const std::size_t newline = received_.find('\n', start);
+    if (newline == std::string::npos) break;
+    std::string_view line(received_.data() + start, newline - start);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     start = newline + 1;
-    if (!line.empty()) owner_.on_line(*this, line);
-    if (!accepting()) return;  // on_line dropped the connection or ended it
+    if (!line.empty()) {
+      last_line_ = Clock::now();
+      owner_.on_line(*this, line);
+    }
   }
-  partial_.erase(0, start);
-  if (partial_.size() > max_line_bytes_) owner_.on_overlong(*this);
+  if (!accepting()) return;  // on_line dropped the connection or ended it
+  received_.erase(0, start);
+  // Only a partial line is left when nothing waits: it must stay within the limit.
+  if (!paused() && received_.size() > limits_.max_line_bytes) owner_.on_overlong(*this);
 }
 
 awaitable<void> ClientConnection::read_loop(
@@ -79,6 +94,13 @@ awaitable<void> ClientConnection::read_loop(
   std::array<char, kReadChunk> chunk;
   for (;;) {
     boost::system::error_code ec;
+    if (accepting() && paused()) {
+      // Back-pressure: the socket is not read until the replies queued are written.
+      resume_timer_.expires_at(Clock::time_point::max());
+      co_await resume_timer_.async_wait(asio::redirect_error(use_awaitable, ec));
+      if (closed_) co_return;
+      continue;
+    }
     const std::size_t n = co_await stream_.async_read_some(asio::buffer(chunk),
                                                            asio::redirect_error(use_awaitable, ec));
     if (closed_) co_return;
@@ -87,7 +109,8 @@ awaitable<void> ClientConnection::read_loop(
       co_return;
     }
     if (draining_) continue;  // lingering: what the client still sends is discarded
-    take(std::string_view(chunk.data(), n));
+    received_.append(chunk.data(), n);
+    answer_received();
   }
 }
 
@@ -125,9 +148,28 @@ awaitable<void> ClientConnection::write_loop(
       close("write failed: " + ec.message());
       co_return;
     }
+    const bool was_paused = paused();
     queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(batch.size()));
     queued_bytes_ -= bytes;
     owner_.on_written(*this, bytes);
+    if (was_paused && !paused() && accepting()) {
+      // The requests that waited are answered now; the reader reads again.
+      answer_received();
+      resume_timer_.cancel();
+    }
+  }
+}
+
+awaitable<void> ClientConnection::idle_watch(
+    std::shared_ptr<ClientConnection> /*keeps this alive*/) {
+  for (;;) {
+    boost::system::error_code ec;
+    idle_timer_.expires_at(last_line_ + limits_.idle_timeout);
+    co_await idle_timer_.async_wait(asio::redirect_error(use_awaitable, ec));
+    if (!accepting()) co_return;
+    if (Clock::now() < last_line_ + limits_.idle_timeout) continue;  // a line came meanwhile
+    last_line_ = Clock::now();
+    owner_.on_idle(*this);
   }
 }
 

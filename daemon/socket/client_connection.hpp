@@ -2,16 +2,24 @@
 // queue written asynchronously (gathered, in order), and its closing: at once, or after the
 // queue is written (half-close, then a short linger that discards what the client still sends,
 // so that it reads the last line and then the end of the stream, not a reset).
+// Back-pressure: while more than pause_bytes are queued for it, the connection answers none of
+// the requests it has received and reads no more from the socket; it goes on once the queue is
+// written down to pause_bytes, so a client that pipelines requests gets every reply in order.
+// Idle: a connection that sends no line for idle_timeout is reported to the owner.
 // Lives on the server's io_context thread; the coroutines keep it alive until they end.
 #pragma once
 
 #include <boost/asio.hpp>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
+
+#include "daemon/socket/peer_credentials.hpp"
 
 namespace tofcomp::daemon::socket {
 
@@ -30,6 +38,8 @@ class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
     virtual void on_overlong(ClientConnection& connection) = 0;
     // bytes of queued lines were written.
     virtual void on_written(ClientConnection& connection, std::size_t bytes) = 0;
+    // No line arrived for the idle timeout (told again after each further timeout).
+    virtual void on_idle(ClientConnection& connection) = 0;
     // The connection closed (once); unwritten_bytes were still queued.
     virtual void on_closed(ClientConnection& connection, const std::string& why,
                            std::size_t unwritten_bytes) = 0;
@@ -38,7 +48,13 @@ class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
     virtual ~Owner() = default;
   };
 
-  ClientConnection(Stream stream, std::uint64_t number, std::size_t max_line_bytes, Owner& owner);
+  struct Limits {
+    std::size_t max_line_bytes = 0;
+    std::size_t pause_bytes = 0;  // queued beyond this, requests wait
+    std::chrono::milliseconds idle_timeout{0};
+  };
+
+  ClientConnection(Stream stream, std::uint64_t number, Limits limits, Owner& owner);
 
   // Starts reading and writing.
   void start();
@@ -57,22 +73,32 @@ class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
   bool closed() const { return closed_; }
   std::size_t queued_bytes() const { return queued_bytes_; }
   std::uint64_t number() const { return number_; }
+  // The peer as it connected (SO_PEERCRED); nullopt if the kernel gave none.
+  const std::optional<PeerCredentials>& peer() const { return peer_; }
 
  private:
   Stream stream_;
   std::uint64_t number_;
-  std::size_t max_line_bytes_;
+  Limits limits_;
   Owner& owner_;
-  boost::asio::steady_timer timer_;  // wakes the writer; then times the linger
+  std::optional<PeerCredentials> peer_;
+  boost::asio::steady_timer timer_;         // wakes the writer; then times the linger
+  boost::asio::steady_timer resume_timer_;  // wakes the reader when requests may go on
+  boost::asio::steady_timer idle_timer_;
+  std::chrono::steady_clock::time_point last_line_;
   std::deque<std::shared_ptr<const std::string>> queue_;
   std::size_t queued_bytes_ = 0;
-  std::string partial_;  // bytes read after the last '\n'
+  std::string received_;  // bytes read and not yet answered: whole lines, then a partial one
   bool draining_ = false;
   bool closed_ = false;
 
   boost::asio::awaitable<void> read_loop(std::shared_ptr<ClientConnection> self);
   boost::asio::awaitable<void> write_loop(std::shared_ptr<ClientConnection> self);
-  void take(std::string_view bytes);
+  boost::asio::awaitable<void> idle_watch(std::shared_ptr<ClientConnection> self);
+  // Back-pressure: requests wait while more than pause_bytes are queued.
+  bool paused() const { return queued_bytes_ > limits_.pause_bytes; }
+  // Answers the whole lines received, in order, while not paused.
+  void answer_received();
 };
 
 }  // namespace tofcomp::daemon::socket

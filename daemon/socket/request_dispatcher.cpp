@@ -29,15 +29,24 @@ RequestDispatcher::RequestDispatcher(SocketRequestHandler& handler, std::size_t 
       max_request_bytes_(max_request_bytes),
       socket_counters_(std::move(socket_counters)) {}
 
-Answer RequestDispatcher::answer(std::string_view line, std::optional<Subscription>& subscription) {
+Answer RequestDispatcher::answer(std::string_view line, std::optional<Subscription>& subscription,
+                                 const Caller& caller) {
   std::optional<nlohmann::json> id;
   const auto error = [&](ipcs::ErrorCode code, const std::string& message) {
     return Answer{ipcs::encode_error_reply(id, code, message), true,
-                  code == ipcs::ErrorCode::TooLong};
+                  code == ipcs::ErrorCode::TooLong, code == ipcs::ErrorCode::Forbidden};
   };
   try {
     const ipcs::Request request = ipcs::parse_request(line, max_request_bytes_);
     id = request.id;
+    const bool control = request.op == ipcs::Op::Reload || request.op == ipcs::Op::Recalibrate;
+    if (control && !caller.may_control) {
+      return error(ipcs::ErrorCode::Forbidden,
+                   std::string(ipcs::to_string(request.op)) + ": not allowed for " + caller.peer +
+                       "; control requests (reload, recalibrate) are for " + caller.controllers +
+                       " only, reading requests (latest, subscribe, status, stats) for anyone "
+                       "who may connect (docs/protocol.md)");
+    }
     return Answer{execute(request, subscription)};
   } catch (const ipcs::ProtocolError& e) {
     if (e.id()) id = e.id();

@@ -22,9 +22,17 @@ struct Subscription {
 };
 
 struct Answer {
-  std::string line;    // the reply, '\n' terminated
-  bool error = false;  // the reply is ok:false
-  bool close = false;  // the connection is to be closed once the reply is written (too_long)
+  std::string line;        // the reply, '\n' terminated
+  bool error = false;      // the reply is ok:false
+  bool close = false;      // the connection is to be closed once the reply is written (too_long)
+  bool forbidden = false;  // a control request from a caller not allowed to control
+};
+
+// Who sent the line, as far as the answer depends on it.
+struct Caller {
+  bool may_control = false;  // reload and recalibrate are answered (else: forbidden)
+  std::string peer;          // "uid 1001 (alice), pid 4242": named in a refusal
+  std::string controllers;   // "uid 0 (root) and uid 999 (tofcompd)": who may control
 };
 
 class RequestDispatcher {
@@ -36,8 +44,10 @@ class RequestDispatcher {
                     CountersJson socket_counters);
 
   // The reply to one line (without its '\n'); subscribe and unsubscribe change subscription.
-  // Never throws: a failure of the handler is an error reply.
-  Answer answer(std::string_view line, std::optional<Subscription>& subscription);
+  // Never throws: a failure of the handler is an error reply. A control request (reload,
+  // recalibrate) from a caller who may not control is answered forbidden, the handler unasked.
+  Answer answer(std::string_view line, std::optional<Subscription>& subscription,
+                const Caller& caller);
 
  private:
   SocketRequestHandler& handler_;

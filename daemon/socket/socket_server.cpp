@@ -27,8 +27,6 @@ using asio::use_awaitable;
 using Stream = asio::local::stream_protocol::socket;
 
 namespace {
-constexpr std::size_t kMinRequestBytes = 64;
-constexpr std::size_t kMaxRequestBytes = 1u << 20;
 constexpr std::chrono::milliseconds kAcceptErrorPause{100};
 constexpr std::size_t kMaxPathBytes = sizeof(sockaddr_un::sun_path) - 1;
 }  // namespace
@@ -44,11 +42,14 @@ void SocketServerSettings::validate() const {
   }
   if (permissions > 0777) fail("permissions: " + std::to_string(permissions) + " is above 0777");
   if (max_clients < 1) fail("max_clients: must be at least 1");
-  if (max_request_bytes < kMinRequestBytes || max_request_bytes > kMaxRequestBytes) {
+  if (max_request_bytes < ipc::socket::kSmallestMaxRequestBytes ||
+      max_request_bytes > ipc::socket::kLargestMaxRequestBytes) {
     fail("max_request_bytes: " + std::to_string(max_request_bytes) + " is outside " +
-         std::to_string(kMinRequestBytes) + ".." + std::to_string(kMaxRequestBytes));
+         std::to_string(ipc::socket::kSmallestMaxRequestBytes) + ".." +
+         std::to_string(ipc::socket::kLargestMaxRequestBytes));
   }
   if (max_queued_bytes_per_client < 1) fail("max_queued_bytes_per_client: must be at least 1");
+  if (idle_timeout.count() <= 0) fail("idle_timeout: must be positive");
 }
 
 nlohmann::ordered_json to_json(const SocketServerCounters& c) {
@@ -57,6 +58,8 @@ nlohmann::ordered_json to_json(const SocketServerCounters& c) {
           {"accepted_clients", c.accepted_clients},
           {"refused_clients", c.refused_clients},
           {"dropped_slow_clients", c.dropped_slow_clients},
+          {"idle_clients_closed", c.idle_clients_closed},
+          {"forbidden_requests", c.forbidden_requests},
           {"requests", c.requests},
           {"errors", c.errors},
           {"scans_published", c.scans_published},
@@ -75,6 +78,7 @@ class SocketServer::Impl final : public ClientConnection::Owner,
         io_(io),
         log_(std::move(log)),
         dispatcher_(handler, settings_.max_request_bytes, [this] { return to_json(counters()); }),
+        control_(settings_.control_uids),
         acceptor_(io) {
     settings_.validate();
   }
@@ -87,6 +91,7 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   void on_line(ClientConnection& connection, std::string_view line) override;
   void on_overlong(ClientConnection& connection) override;
   void on_written(ClientConnection& connection, std::size_t bytes) override;
+  void on_idle(ClientConnection& connection) override;
   void on_closed(ClientConnection& connection, const std::string& why,
                  std::size_t unwritten_bytes) override;
 
@@ -103,6 +108,7 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   asio::io_context& io_;
   SocketLog log_;
   RequestDispatcher dispatcher_;
+  ControlPolicy control_;
   asio::local::stream_protocol::acceptor acceptor_;
   std::map<std::uint64_t, Client> clients_;
   std::uint64_t next_number_ = 1;
@@ -113,12 +119,19 @@ class SocketServer::Impl final : public ClientConnection::Owner,
 
   awaitable<void> accept_loop(std::shared_ptr<Impl> self, std::uint64_t generation);
   void admit(Stream stream);
-  void enqueue(ClientConnection& connection, std::shared_ptr<const std::string> line);
+  // A reply is always queued (requests wait while the queue is over half its bound, so replies
+  // cannot overflow it); a scan that would pass the bound drops the connection.
+  enum class Line { Reply, Scan };
+  void enqueue(ClientConnection& connection, std::shared_ptr<const std::string> line, Line kind);
   void log(SocketLogLevel level, const std::string& message) const {
     if (log_) log_(level, "socket: " + message);
   }
   std::string name(const ClientConnection& c) const {
     return "client " + std::to_string(c.number());
+  }
+  static std::string peer_name(const ClientConnection& c) {
+    return c.peer() ? describe_user(c.peer()->uid) + ", pid " + std::to_string(c.peer()->pid)
+                    : std::string("a peer without credentials");
   }
 };
 
@@ -190,8 +203,10 @@ awaitable<void> SocketServer::Impl::accept_loop(std::shared_ptr<Impl> /*keeps th
 
 void SocketServer::Impl::admit(Stream stream) {
   const std::uint64_t number = next_number_++;
-  auto connection = std::make_shared<ClientConnection>(std::move(stream), number,
-                                                       settings_.max_request_bytes, *this);
+  const ClientConnection::Limits limits{settings_.max_request_bytes,
+                                        settings_.max_queued_bytes_per_client / 2,
+                                        settings_.idle_timeout};
+  auto connection = std::make_shared<ClientConnection>(std::move(stream), number, limits, *this);
   const bool admitted = admitted_now_ < settings_.max_clients;
   clients_.emplace(number, Client{connection, admitted, std::nullopt});
   connection->start();
@@ -208,15 +223,16 @@ void SocketServer::Impl::admit(Stream stream) {
           std::make_shared<const std::string>(ipc::socket::encode_error_reply(
               std::nullopt, ipc::socket::ErrorCode::Unavailable,
               "connection: too many clients; " + std::to_string(settings_.max_clients) +
-                  " are connected, the most the daemon serves (max_clients)")));
+                  " are connected, the most the daemon serves (max_clients)")),
+          Line::Reply);
   connection->close_after_flush();
 }
 
 void SocketServer::Impl::enqueue(ClientConnection& connection,
-                                 std::shared_ptr<const std::string> line) {
+                                 std::shared_ptr<const std::string> line, Line kind) {
   if (!connection.accepting()) return;
   const std::size_t bound = settings_.max_queued_bytes_per_client;
-  if (!connection.fits(line->size(), bound)) {
+  if (kind == Line::Scan && !connection.fits(line->size(), bound)) {
     ++counters_.dropped_slow_clients;
     const std::string why =
         "dropped: it is not reading (" + std::to_string(connection.queued_bytes()) +
@@ -248,7 +264,7 @@ void SocketServer::Impl::publish(const ipc::CompensatedScan& scan) {
     }
   }
   counters_.scan_encodings += fanout.encodings();
-  for (auto& [connection, line] : sends) enqueue(*connection, std::move(line));
+  for (auto& [connection, line] : sends) enqueue(*connection, std::move(line), Line::Scan);
 }
 
 SocketServerCounters SocketServer::Impl::counters() const {
@@ -265,9 +281,16 @@ void SocketServer::Impl::on_line(ClientConnection& connection, std::string_view 
   const auto it = clients_.find(connection.number());
   if (it == clients_.end()) return;
   ++counters_.requests;
-  Answer answer = dispatcher_.answer(line, it->second.subscription);
+  const Caller caller{control_.may_control(connection.peer()), peer_name(connection),
+                      control_.describe()};
+  Answer answer = dispatcher_.answer(line, it->second.subscription, caller);
   if (answer.error) ++counters_.errors;
-  enqueue(connection, std::make_shared<const std::string>(std::move(answer.line)));
+  if (answer.forbidden) {
+    ++counters_.forbidden_requests;
+    log(SocketLogLevel::Warning, name(connection) + " (" + caller.peer +
+                                     "): " + "control request refused: not allowed to control");
+  }
+  enqueue(connection, std::make_shared<const std::string>(std::move(answer.line)), Line::Reply);
   if (answer.close) {
     log(SocketLogLevel::Info, name(connection) + ": request too long; closing its connection");
     connection.close_after_flush();
@@ -277,11 +300,32 @@ void SocketServer::Impl::on_line(ClientConnection& connection, std::string_view 
 void SocketServer::Impl::on_overlong(ClientConnection& connection) {
   ++counters_.requests;
   ++counters_.errors;
-  enqueue(connection, std::make_shared<const std::string>(ipc::socket::encode_error_reply(
-                          std::nullopt, ipc::socket::ErrorCode::TooLong,
-                          "request: more than " + std::to_string(settings_.max_request_bytes) +
-                              " bytes without a line end (the limit of a request)")));
+  enqueue(connection,
+          std::make_shared<const std::string>(ipc::socket::encode_error_reply(
+              std::nullopt, ipc::socket::ErrorCode::TooLong,
+              "request: more than " + std::to_string(settings_.max_request_bytes) +
+                  " bytes without a line end (the limit of a request)")),
+          Line::Reply);
   log(SocketLogLevel::Info, name(connection) + ": request too long; closing its connection");
+  connection.close_after_flush();
+}
+
+// A subscriber is not idle: it is there for the scans. Any other connection silent for the idle
+// timeout is told why and closed, so that silent clients cannot hold every slot.
+void SocketServer::Impl::on_idle(ClientConnection& connection) {
+  const auto it = clients_.find(connection.number());
+  if (it == clients_.end() || it->second.subscription) return;
+  ++counters_.idle_clients_closed;
+  const std::int64_t ms = settings_.idle_timeout.count();
+  const std::string span =
+      ms % 1000 == 0 ? std::to_string(ms / 1000) + " s" : std::to_string(ms) + " ms";
+  enqueue(connection,
+          std::make_shared<const std::string>(ipc::socket::encode_error_reply(
+              std::nullopt, ipc::socket::ErrorCode::Unavailable,
+              "connection: no request for " + span +
+                  " and no subscription (idle_timeout_s); closing it to free its slot")),
+          Line::Reply);
+  log(SocketLogLevel::Info, name(connection) + ": idle for " + span + "; closing its connection");
   connection.close_after_flush();
 }
 

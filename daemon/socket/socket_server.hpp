@@ -1,30 +1,43 @@
 // tofcompd's Unix-socket server (docs/protocol.md): line-delimited JSON requests answered
 // through the daemon's SocketRequestHandler, and every published scan fanned out to the
 // subscribed connections. Single-threaded on the daemon's io_context and never blocking: each
-// connection has a write queue bounded in bytes, and a connection whose queue would exceed the
-// bound (its client is not reading) is dropped without delaying anyone else.
+// connection has a write queue bounded in bytes, and a connection whose queue of scans would
+// exceed the bound (its client is not reading) is dropped without delaying anyone else. A
+// connection's requests wait while its queue is over half the bound (back-pressure), so replies
+// never overflow it. Control requests (reload, recalibrate) are answered only for the users the
+// settings allow (by SO_PEERCRED); a connection silent for idle_timeout, not subscribed, is closed.
 #pragma once
 
+#include <sys/types.h>
+
 #include <boost/asio.hpp>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "daemon/socket/request_handler.hpp"
 #include "ipc/compensated_scan.hpp"
 #include "ipc/socket/request.hpp"
+#include "ipc/socket/server_defaults.hpp"
 
 namespace tofcomp::daemon::socket {
 
+// The defaults are ipc/socket/server_defaults.hpp's, the configuration's (outputs.socket.*).
 struct SocketServerSettings {
   std::string path = ipc::socket::kDefaultSocketPath;
-  unsigned permissions = 0660;  // of the socket file
-  std::size_t max_clients = 64;
+  unsigned permissions = ipc::socket::kDefaultSocketMode;  // of the socket file
+  std::size_t max_clients = ipc::socket::kDefaultMaxClients;
   std::size_t max_request_bytes = ipc::socket::kDefaultMaxRequestBytes;
-  std::size_t max_queued_bytes_per_client = 8u << 20;  // about 100 full LMS 200 scans
+  std::size_t max_queued_bytes_per_client = ipc::socket::kDefaultMaxQueuedBytesPerClient;
+  std::chrono::milliseconds idle_timeout = ipc::socket::kDefaultIdleTimeout;
+  // The users whose connections may send control requests (reload, recalibrate), by the peer's
+  // credentials. Empty: the server's own effective user and root.
+  std::vector<uid_t> control_uids;
 
   void validate() const;  // throws core::InvalidInput naming the setting at fault
 };
@@ -35,6 +48,8 @@ struct SocketServerCounters {
   std::uint64_t accepted_clients = 0;          // admitted since start
   std::uint64_t refused_clients = 0;           // turned away at max_clients
   std::uint64_t dropped_slow_clients = 0;      // closed because their queue was full
+  std::uint64_t idle_clients_closed = 0;       // closed after idle_timeout without a request
+  std::uint64_t forbidden_requests = 0;        // control requests from users not allowed them
   std::uint64_t requests = 0;                  // request lines answered
   std::uint64_t errors = 0;                    // of those, answered with an error
   std::uint64_t scans_published = 0;           // publish() calls while running

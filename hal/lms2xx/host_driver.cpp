@@ -1,5 +1,7 @@
 #include "hal/lms2xx/host_driver.hpp"
 
+#include <termios.h>
+
 #include <algorithm>
 #include <vector>
 
@@ -155,6 +157,14 @@ void Lms2xxDriver::set_port_baud(unsigned baud) {
                     ec.message());
   }
   port_baud_ = baud;
+  // Bytes received at the old rate mean nothing at the new one, but a late answer to a request
+  // made at the old rate would be taken for the answer to the next request at this one (a rate
+  // search then "finds" the device at a rate it is not at). Those still in the kernel's buffer
+  // are flushed; those a read has already taken go with the reader, which starts anew.
+  ::tcflush(port_.native_handle(), TCIFLUSH);
+  ++reader_generation_;
+  port_.cancel(ec);
+  asio::co_spawn(io_, reader(reader_generation_), asio::detached);
   decoder_.reset();
 }
 
@@ -211,6 +221,8 @@ awaitable<void> Lms2xxDriver::supervise() {
 awaitable<void> Lms2xxDriver::reader(std::uint64_t generation) {
   std::vector<std::uint8_t> buffer(4096);
   for (;;) {
+    // A reader replaced before it started (or between reads) leaves the bytes to its successor.
+    if (generation != reader_generation_) co_return;
     boost::system::error_code ec;
     const std::size_t n = co_await port_.async_read_some(asio::buffer(buffer),
                                                          asio::redirect_error(use_awaitable, ec));

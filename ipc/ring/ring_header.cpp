@@ -1,10 +1,7 @@
 // The ring's header in a mapping: see ring_header.hpp.
 #include "ipc/ring/ring_header.hpp"
 
-#include <signal.h>
-
 #include <atomic>
-#include <cerrno>
 #include <cstdio>
 
 #include "core/error.hpp"
@@ -92,10 +89,6 @@ RingHeader read_header(const std::byte* base) {
   copy.writer_state = load_writer_state(base);
   copy.published = load_published(base);
   return copy;
-}
-
-bool process_runs(std::int32_t pid) {
-  return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM);
 }
 
 bool ring_being_created(const ShmMapping& mapping) {

@@ -27,9 +27,6 @@ void store_published(std::byte* base, std::uint64_t published);  // release
 // A copy of the header's fields (the atomic ones as loaded now).
 RingHeader read_header(const std::byte* base);
 
-// Whether a process with this pid exists (a writer's liveness, as far as this host can tell).
-bool process_runs(std::int32_t pid);
-
 // Whether the mapping holds a ring that its writer has not finished creating: too small for a
 // header, or no magic yet.
 bool ring_being_created(const ShmMapping& mapping);

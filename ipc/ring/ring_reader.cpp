@@ -1,12 +1,15 @@
 // A reader of tofcompd's shared-memory ring: see ring_reader.hpp.
 #include "ipc/ring/ring_reader.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <utility>
 
 #include "core/error.hpp"
 #include "ipc/ring/ring_header.hpp"
 #include "ipc/ring/seqlock_slot.hpp"
+#include "ipc/user_name.hpp"
 
 namespace tofcomp::ipc::ring {
 
@@ -16,24 +19,83 @@ namespace {
 // to lap the whole ring during every one of them.
 constexpr int kLatestAttempts = 1000;
 
-ShmMapping open_ring(const std::string& name) {
-  validate_shm_name(name);
-  auto mapping = map_existing_read_only(name);
-  if (!mapping) {
-    throw core::Error(describe_object(name) + " does not exist (no /dev/shm" + name +
-                      "): is its writer (tofcompd) "
-                      "running, with this ring name?");
+std::vector<uid_t> accepted_owners(std::vector<uid_t> owners) {
+  if (owners.empty()) {
+    owners = {::geteuid(), 0};
+    if (const auto daemon = user_named(kDaemonUser)) owners.push_back(*daemon);
   }
-  return std::move(*mapping);
+  std::sort(owners.begin(), owners.end());
+  owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
+  return owners;
+}
+
+bool accepted(const std::vector<uid_t>& owners, uid_t uid) {
+  return std::find(owners.begin(), owners.end(), uid) != owners.end();
+}
+
+std::string describe_users(const std::vector<uid_t>& owners) {
+  std::string text;
+  for (std::size_t i = 0; i < owners.size(); ++i) {
+    if (i > 0) text += i + 1 == owners.size() ? " or " : ", ";
+    text += describe_user(owners[i]);
+  }
+  return text;
+}
+
+// The ring to read for `name`: the object itself when an accepted user owns it; else the
+// alternative tofcompd publishes to when its name is taken (shm_object.hpp), if an accepted user
+// owns that. `name` becomes the object's name; `foreign` the owner of a refused one.
+ShmMapping open_trusted_ring(std::string& name, const std::vector<uid_t>& owners,
+                             std::optional<uid_t>& foreign) {
+  validate_shm_name(name);
+  const auto owner = object_owner(name);
+  if (!owner) {
+    throw core::Error(describe_object(name) + " does not exist (no /dev/shm" + name +
+                      "): is its writer (tofcompd) running, with this ring name?");
+  }
+  if (accepted(owners, *owner)) {
+    auto mapping = map_existing_read_only(name);
+    if (!mapping) throw core::Error(describe_object(name) + " disappeared while it was opened");
+    if (accepted(owners, mapping->owner())) return std::move(*mapping);
+  }
+  foreign = owner;
+  std::string tried;
+  for (const uid_t uid : owners) {
+    const std::string alternative = alternative_ring_name(name, uid);
+    tried += (tried.empty() ? "" : ", ") + alternative;
+    if (object_owner(alternative) != uid) continue;
+    if (auto mapping = map_existing_read_only(alternative); mapping && mapping->owner() == uid) {
+      name = alternative;
+      return std::move(*mapping);
+    }
+  }
+  throw core::Error(describe_object(name) + " belongs to " + describe_user(*owner) + ", not to " +
+                    describe_users(owners) +
+                    ": tofcompd did not make it, and it is not read; nor is there a ring "
+                    "where tofcompd publishes when its name is taken (" +
+                    tried + "). Name the daemon's user with --owner if it is another");
 }
 
 }  // namespace
 
-RingReader::RingReader(std::string name) : name_(std::move(name)), mapping_(open_ring(name_)) {
+RingReader::RingReader(std::string name, RingReaderOptions options)
+    : owners_(accepted_owners(std::move(options.owners))),
+      name_(std::move(name)),
+      mapping_(open_trusted_ring(name_, owners_, foreign_owner_)) {
   geometry_ = validate_ring_header(mapping_, name_);
   generation_ = read_header(mapping_.data()).generation;
   last_published_seen_ = load_published(mapping_.data());
   cursor_ = last_published_seen_;
+}
+
+void RingReader::check_size() const {
+  const std::uint64_t now = mapping_.current_size();
+  if (now < geometry_.ring_size()) {
+    throw core::Error(describe_object(name_) + " shrank to " + std::to_string(now) +
+                      " bytes while it was read, fewer than the " +
+                      std::to_string(geometry_.ring_size()) +
+                      " its header describes: it was truncated, and is not read further");
+  }
 }
 
 const std::byte* RingReader::slot(std::uint64_t publish_index) const {
@@ -57,6 +119,7 @@ bool RingReader::follow_restart_if_idle(std::uint64_t published) {
   if (!now || *now == mapping_.id()) return false;
   auto fresh = map_existing_read_only(name_);
   if (!fresh || ring_being_created(*fresh)) return false;  // try again at the next read
+  if (!accepted(owners_, fresh->owner())) return false;    // not tofcompd's: not followed
   const RingGeometry geometry = validate_ring_header(*fresh, name_);
   const std::uint64_t generation = read_header(fresh->data()).generation;
   if (generation == generation_) return false;
@@ -71,8 +134,10 @@ bool RingReader::follow_restart_if_idle(std::uint64_t published) {
 }
 
 std::optional<CompensatedScan> RingReader::latest() {
+  check_size();
   follow_restart_if_idle(load_published(mapping_.data()));
   for (int attempt = 0; attempt < kLatestAttempts; ++attempt) {
+    check_size();
     const std::uint64_t published = load_published(mapping_.data());
     last_published_seen_ = published;
     if (published == 0) return std::nullopt;
@@ -96,6 +161,7 @@ std::optional<CompensatedScan> RingReader::latest() {
 }
 
 ReadBatch RingReader::read_new(std::size_t max_scans) {
+  check_size();
   ReadBatch batch;
   std::uint64_t published = load_published(mapping_.data());
   if (follow_restart_if_idle(published)) {
@@ -116,6 +182,7 @@ ReadBatch RingReader::read_new(std::size_t max_scans) {
       static_cast<std::size_t>(std::min<std::uint64_t>(published - cursor_, max_scans)));
   while (cursor_ < published && batch.scans.size() < max_scans) {
     // Copied straight into the batch; a failed copy is dropped again.
+    check_size();
     CompensatedScan& copy = batch.scans.emplace_back();
     const SlotRead outcome = read_slot(slot(cursor_), cursor_, geometry_.max_beams, copy);
     if (outcome != SlotRead::kComplete) batch.scans.pop_back();
@@ -147,10 +214,12 @@ ReadBatch RingReader::read_new(std::size_t max_scans) {
 }
 
 void RingReader::rewind_to_oldest() {
+  check_size();
   cursor_ = oldest_available(load_published(mapping_.data()));
 }
 
 RingInfo RingReader::info() const {
+  check_size();
   const RingHeader h = read_header(mapping_.data());
   RingInfo info;
   info.name = name_;
@@ -167,8 +236,9 @@ RingInfo RingReader::info() const {
 }
 
 bool RingReader::writer_running() const {
-  const RingHeader h = read_header(mapping_.data());
-  return h.writer_state != kWriterClosed && process_runs(h.writer_pid);
+  check_size();
+  return load_writer_state(mapping_.data()) != kWriterClosed &&
+         writer_lock_held(mapping_.fd(), name_);
 }
 
 }  // namespace tofcomp::ipc::ring

@@ -2,8 +2,15 @@
 // checks its header, and copies scans out under the slots' sequence locks. Copies torn by the
 // writer are discarded and counted, never returned. A reader that falls more than a ring behind
 // is told how many scans it lost; a writer that re-created the ring is detected and followed.
-// One RingReader per thread; any number of readers per ring, in any processes.
+// Trust: a ring is read only when it belongs to one of the accepted users (by default this
+// process's, root and tofcompd's); when the name belongs to someone else, the reader looks where
+// tofcompd then publishes (alternative_ring_name, shm_object.hpp) or refuses, naming the owner.
+// The object's size is checked (fstat) before each access, so a ring shrunk while mapped is an
+// error, not a SIGBUS. One RingReader per thread; any number of readers per ring, in any
+// processes.
 #pragma once
+
+#include <sys/types.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -50,12 +57,21 @@ struct ReaderCounters {
   std::uint64_t writer_restarts = 0;
 };
 
+// The user tofcompd runs as (systemd/tofcompd.sysusers), whose rings readers accept by default.
+inline constexpr const char* kDaemonUser = "tofcompd";
+
+struct RingReaderOptions {
+  // The users whose rings are read. Empty: this process's effective user, root, and the user
+  // kDaemonUser when it exists.
+  std::vector<uid_t> owners;
+};
+
 class RingReader {
  public:
-  // Opens the ring `name` read-only and checks its header (magic, layout version, byte order,
-  // sizes). Throws core::Error naming the object and what is wrong (including "does not
-  // exist"). The cursor starts at the next scan to be published.
-  explicit RingReader(std::string name = kDefaultRingName);
+  // Opens the ring `name` read-only and checks its owner and its header (magic, layout version,
+  // byte order, sizes). Throws core::Error naming the object and what is wrong (including "does
+  // not exist" and "belongs to"). The cursor starts at the next scan to be published.
+  explicit RingReader(std::string name = kDefaultRingName, RingReaderOptions options = {});
 
   // The newest complete scan; nullopt while none was published. Retries copies torn by the
   // writer. Does not move the cursor.
@@ -72,8 +88,12 @@ class RingReader {
   std::uint64_t cursor() const { return cursor_; }
 
   RingInfo info() const;
-  // The writer has not closed the ring and its process exists.
+  // The writer has not closed the ring and holds its lock (shm_object.hpp).
   bool writer_running() const;
+  // The object read: the name asked for, or its alternative when that belonged to another user.
+  const std::string& name() const { return name_; }
+  // When the name asked for belonged to another user: that user.
+  std::optional<uid_t> foreign_owner() const { return foreign_owner_; }
   const ReaderCounters& counters() const { return counters_; }
 
  private:
@@ -84,7 +104,12 @@ class RingReader {
   const std::byte* slot(std::uint64_t publish_index) const;
   [[noreturn]] void throw_corrupt(std::uint64_t publish_index) const;
 
+  // Throws core::Error when the object is now smaller than its header describes.
+  void check_size() const;
+
+  std::vector<uid_t> owners_;
   std::string name_;
+  std::optional<uid_t> foreign_owner_;
   ShmMapping mapping_;
   RingGeometry geometry_;
   std::uint64_t generation_ = 0;

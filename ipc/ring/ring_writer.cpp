@@ -11,14 +11,14 @@
 #include "core/error.hpp"
 #include "ipc/ring/ring_header.hpp"
 #include "ipc/ring/seqlock_slot.hpp"
+#include "ipc/user_name.hpp"
 
 namespace tofcomp::ipc::ring {
 
 namespace {
 
-// Names held by the RingWriters of this process: a ring whose writer_pid is this process is
-// another live writer if its name is here, and a stale ring of an earlier process that had the
-// same pid if not.
+// Names held by the RingWriters of this process, so that a second writer of one name in the
+// same process is refused by name before it looks at the object.
 std::mutex& names_mutex() {
   static std::mutex m;
   return m;
@@ -59,13 +59,21 @@ void check_counts(const std::string& name, std::uint32_t slot_count, std::uint32
   }
 }
 
-// Removes a ring of this name left by a writer that is gone, and returns its generation (0 if
-// there was none). Refuses to remove a ring whose writer still runs, or an object that is not a
-// tofcomp ring.
+// Removes a ring of this name (this user's) left by a writer that is gone, and returns its
+// generation (0 if there was none). Refuses to remove a ring whose writer holds its lock, or an
+// object that is not a tofcomp ring.
 std::uint64_t retire_stale_ring(const std::string& name) {
   const auto existing = map_existing_read_only(name);
   if (!existing) return 0;
   std::uint64_t previous_generation = 0;
+  if (writer_lock_held(existing->fd(), name)) {
+    const std::int32_t pid =
+        existing->size() >= sizeof(RingHeader) ? read_header(existing->data()).writer_pid : 0;
+    throw core::Error(describe_object(name) + " is in use by a running writer (pid " +
+                      std::to_string(pid) +
+                      ", which holds its lock); stop it or choose another "
+                      "name");
+  }
   if (existing->size() >= sizeof(RingHeader)) {
     const RingHeader h = read_header(existing->data());
     if (h.magic != 0 && h.magic != kRingMagic) {
@@ -73,13 +81,6 @@ std::uint64_t retire_stale_ring(const std::string& name) {
                         " exists and is not a tofcomp ring (no TOFCRING magic); it was left "
                         "in place: remove it (rm /dev/shm" +
                         name + ") or choose another name");
-    }
-    // A writer still creating its ring has set its pid but not yet its magic or state.
-    const bool live = h.writer_state != kWriterClosed && process_runs(h.writer_pid) &&
-                      h.writer_pid != static_cast<std::int32_t>(::getpid());
-    if (live) {
-      throw core::Error(describe_object(name) + " is in use by a running writer (pid " +
-                        std::to_string(h.writer_pid) + "); stop it or choose another name");
     }
     if (h.magic == kRingMagic) previous_generation = h.generation;
   }
@@ -102,6 +103,23 @@ RingWriter::RingWriter(std::string name, std::uint32_t slot_count, std::uint32_t
     : name_(std::move(name)), geometry_{slot_count, max_beams}, options_(options) {
   validate_shm_name(name_);
   check_counts(name_, slot_count, max_beams);
+  const uid_t self = ::geteuid();
+  if (const auto owner = object_owner(name_); owner && *owner != self) {
+    const std::string taken = describe_object(name_) + " belongs to " + describe_user(*owner) +
+                              ", not to this writer's " + describe_user(self) +
+                              ": another user made it; it is left alone";
+    if (!options_.alternative_when_foreign) {
+      throw core::Error(taken + " (remove it as root, rm /dev/shm" + name_ +
+                        ", or choose another name)");
+    }
+    foreign_owner_ = owner;
+    name_ = alternative_ring_name(name_, self);
+    validate_shm_name(name_);
+    if (const auto second = object_owner(name_); second && *second != self) {
+      throw core::Error(taken + ", and so is its alternative " + describe_object(name_) + " (" +
+                        describe_user(*second) + ")");
+    }
+  }
   claim_name(name_);
   try {
     generation_ = new_generation(retire_stale_ring(name_));

@@ -3,7 +3,10 @@
 // waits for readers. Not thread-safe: one thread publishes.
 #pragma once
 
+#include <sys/types.h>
+
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "ipc/compensated_scan.hpp"
@@ -15,14 +18,20 @@ namespace tofcomp::ipc::ring {
 struct RingWriterOptions {
   unsigned mode = 0640;        // permissions of the object; readers need read permission
   bool keep_on_close = false;  // leave the object (marked closed) when the writer goes away
+  // When the name is taken by an object of another user (planted, perhaps, to keep the daemon
+  // from starting or to feed its readers fake scans): write to alternative_ring_name(name, own
+  // user) instead, leaving that object alone (true), or refuse to start (false).
+  bool alternative_when_foreign = false;
 };
 
 class RingWriter {
  public:
   // Creates the ring `name` ("/tofcompd") with slot_count slots of max_beams beams. A ring of
-  // that name left by a writer that is gone (closed, or its process no longer runs) is removed
-  // first; a ring whose writer still runs, or an object that is not a tofcomp ring, is an
-  // error. Throws core::InvalidInput for a bad name or counts, core::Error for a failed call.
+  // that name of this user that no writer holds (its writer closed it or its process ended: the
+  // writer's lock, shm_object.hpp) is removed first; a ring whose writer holds its lock, or an
+  // object that is not a tofcomp ring, is an error. An object of another user is never touched:
+  // see RingWriterOptions::alternative_when_foreign. Throws core::InvalidInput for a bad name or
+  // counts, core::Error for a failed call.
   RingWriter(std::string name, std::uint32_t slot_count = kDefaultSlotCount,
              std::uint32_t max_beams = kDefaultMaxBeams, RingWriterOptions options = {});
   // Marks the ring closed, unmaps it and, unless keep_on_close, removes the name (only if it
@@ -35,13 +44,16 @@ class RingWriter {
   // max_beams is core::InvalidInput and publishes nothing.
   void publish(const CompensatedScan& scan);
 
-  const std::string& name() const { return name_; }
+  const std::string& name() const { return name_; }  // the name written to
+  // When the name asked for belonged to another user: that user (name() is the alternative).
+  std::optional<uid_t> foreign_owner() const { return foreign_owner_; }
   std::uint64_t published() const { return published_; }  // scans published so far
   std::uint64_t generation() const { return generation_; }
   const RingGeometry& geometry() const { return geometry_; }
 
  private:
   std::string name_;
+  std::optional<uid_t> foreign_owner_;
   RingGeometry geometry_;
   RingWriterOptions options_;
   std::uint64_t generation_ = 0;

@@ -8,7 +8,7 @@ namespace tofcomp::ipc::socket {
 
 namespace {
 
-constexpr std::array<std::pair<ErrorCode, std::string_view>, 7> kNames{{
+constexpr std::array<std::pair<ErrorCode, std::string_view>, 8> kNames{{
     {ErrorCode::BadRequest, "bad_request"},
     {ErrorCode::UnknownOp, "unknown_op"},
     {ErrorCode::TooLong, "too_long"},
@@ -16,6 +16,7 @@ constexpr std::array<std::pair<ErrorCode, std::string_view>, 7> kNames{{
     {ErrorCode::Unavailable, "unavailable"},
     {ErrorCode::Refused, "refused"},
     {ErrorCode::Internal, "internal"},
+    {ErrorCode::Forbidden, "forbidden"},
 }};
 
 }  // namespace

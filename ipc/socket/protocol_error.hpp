@@ -20,9 +20,11 @@ enum class ErrorCode {
   Unavailable,  // nothing to answer yet (no scan published), or too many clients
   Refused,      // the daemon declined the action (reload failed, recalibration not accepted)
   Internal,     // the daemon failed while answering
+  Forbidden,    // the client may read but not control (reload, recalibrate): docs/protocol.md
 };
 
-// The wire name: bad_request, unknown_op, too_long, bad_range, unavailable, refused, internal.
+// The wire name: bad_request, unknown_op, too_long, bad_range, unavailable, refused, internal,
+// forbidden.
 std::string_view to_string(ErrorCode code);
 // The code of a wire name; nullopt for a name that is none of them.
 std::optional<ErrorCode> error_code_from_string(std::string_view name);

@@ -3,6 +3,8 @@
 #include "ipc/socket/request.hpp"
 
 #include <array>
+#include <functional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,6 +49,50 @@ std::string json_complaint(const json::exception& e) {
   if (what.size() > 160) what = what.substr(0, 160) + "...";
   return what;
 }
+
+// Thrown by the parse guard below: a request the JSON parser itself would accept, refused.
+struct GuardFault {
+  std::string message;
+};
+
+// Watches the JSON parser's events (nlohmann's parser callback) and stops the parse at the first
+// object or array nested deeper than kMaxRequestDepth, and at a key given twice in one object
+// (JSON leaves that undefined; nlohmann would keep the last silently).
+class ParseGuard {
+ public:
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        if (++depth_ > kMaxRequestDepth) {
+          throw GuardFault{"request: nested deeper than " + std::to_string(kMaxRequestDepth) +
+                           " levels of objects and arrays (no request needs more than 3)"};
+        }
+        if (event == json::parse_event_t::object_start) keys_.emplace_back();
+        break;
+      case json::parse_event_t::object_end:
+        --depth_;
+        keys_.pop_back();
+        break;
+      case json::parse_event_t::array_end:
+        --depth_;
+        break;
+      case json::parse_event_t::key:
+        if (!keys_.empty() && !keys_.back().insert(parsed.get<std::string>()).second) {
+          throw GuardFault{quote_input(parsed.get<std::string>()) +
+                           ": given twice in one object; a key may appear once"};
+        }
+        break;
+      case json::parse_event_t::value:
+        break;
+    }
+    return true;
+  }
+
+ private:
+  int depth_ = 0;
+  std::vector<std::set<std::string>> keys_;  // of each open object
+};
 
 class Parser {
  public:
@@ -179,9 +225,17 @@ Request parse_request(std::string_view line, std::size_t max_bytes) {
                                                 " bytes, more than the limit of " +
                                                 std::to_string(max_bytes) + " bytes");
   }
+  if (const std::size_t nul = line.find('\0'); nul != std::string_view::npos) {
+    throw ProtocolError(ErrorCode::BadRequest, "request: a NUL byte at offset " +
+                                                   std::to_string(nul) +
+                                                   "; a request is one line of JSON text");
+  }
   json doc;
   try {
-    doc = json::parse(line);
+    ParseGuard guard;
+    doc = json::parse(line.begin(), line.end(), std::ref(guard));
+  } catch (const GuardFault& fault) {
+    throw ProtocolError(ErrorCode::BadRequest, fault.message);
   } catch (const json::exception& e) {  // parse_error, or out_of_range for a number too large
     throw ProtocolError(ErrorCode::BadRequest, "request: not valid JSON: " + json_complaint(e));
   }

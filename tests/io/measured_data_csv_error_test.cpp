@@ -2,8 +2,11 @@
 // message has to name.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
+#include <streambuf>
 
 #include "measured_data_csv_test_support.hpp"
 
@@ -72,6 +75,20 @@ std::vector<BadFile> bad_files() {
       {"beam_word", kHead + "0,3000,left,,,,\n", 3, "beam", "'left' is not a beam index"},
       {"beam_beyond_int", kHead + "0,3000,99999999999,,,,\n", 3, "beam", "not a beam index"},
       {"carriage_return_inside_line", "time_s,note\n0,a\rb\n", 2, "", "a carriage return"},
+      // The device's limits (core/lms200_limits.hpp).
+      {"range_negative", kHead + "0,-5,,,,,\n", 3, "range_mm",
+       "-5 mm is outside 0..81910 mm, the ranges an LMS 200 reports"},
+      {"range_1e300", kHead + "0,3000,,,,,\n1,1e300,,,,,\n", 4, "range_mm",
+       "1e+300 mm is outside 0..81910 mm"},
+      {"range_beyond_the_device", kHead + "0,81910.5,,,,,\n", 3, "range_mm", "outside 0..81910"},
+      {"true_range_negative", kHead + "0,,,,,,3000\n0,2999,,,,,-3000\n", 4, "true_range_mm",
+       "-3000 mm is no distance an LMS 200 measures"},
+      {"true_range_zero", kHead + "0,,,,,,0\n", 3, "true_range_mm",
+       "a reference distance is more than 0 and at most 81910 mm"},
+      {"true_range_1e300", kHead + "0,,,,,,1e300\n", 3, "true_range_mm", "1e+300 mm is no"},
+      // Lines and cells of any length cost a bounded amount and are quoted by their start.
+      {"line_too_long", kHead + "0," + std::string(70000, '9') + ",,,,,\n", 3, "",
+       "a line longer than 65536 bytes (it starts '0,99999"},
   };
 }
 
@@ -101,6 +118,55 @@ std::string case_name(const ::testing::TestParamInfo<BadFile>& param) {
 
 INSTANTIATE_TEST_SUITE_P(Reader, MeasuredDataCsvErrors, ::testing::ValuesIn(bad_files()),
                          case_name);
+
+// A stream of `bytes` bytes of '9' that counts what was read from it.
+class EndlessCell : public std::streambuf {
+ public:
+  explicit EndlessCell(std::uint64_t bytes) : left_(bytes) {
+    const std::string head = "time_s,range_mm\n0,";
+    std::copy(head.begin(), head.end(), chunk_.begin());
+    std::fill(chunk_.begin() + static_cast<std::ptrdiff_t>(head.size()), chunk_.end(), '9');
+  }
+  std::uint64_t served() const { return served_; }
+
+ protected:
+  int_type underflow() override {
+    if (left_ == 0) return traits_type::eof();
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left_, chunk_.size()));
+    if (served_ > 0) std::fill(chunk_.begin(), chunk_.end(), '9');
+    setg(chunk_.data(), chunk_.data(), chunk_.data() + n);
+    left_ -= n;
+    served_ += n;
+    return traits_type::to_int_type(chunk_[0]);
+  }
+
+ private:
+  std::array<char, 4096> chunk_{};
+  std::uint64_t left_;
+  std::uint64_t served_ = 0;
+};
+
+TEST(MeasuredDataCsvLimits, AGigabyteCellIsReadNoFurtherThanTheLineLimit) {
+  EndlessCell cell(std::uint64_t{1} << 30);
+  std::istream in(&cell);
+  try {
+    read_measured_data(in, "big.csv");
+    FAIL() << "no error";
+  } catch (const MeasuredDataFileError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_LT(std::string(e.what()).size(), 300u) << "the message quotes a prefix only";
+  }
+  // The reader stopped a chunk past the limit: memory stays bounded by the limit, not the cell.
+  EXPECT_LT(cell.served(), 4 * kMaxMeasuredDataLineBytes);
+}
+
+TEST(MeasuredDataCsvLimits, ALongBadCellIsQuotedByItsStart) {
+  const auto error = testing::read_error(kHead + "0," + std::string(5000, 'x') + ",,,,,\n");
+  ASSERT_TRUE(error);
+  EXPECT_EQ(error->column(), "range_mm");
+  EXPECT_EQ(error->reason(),
+            "'" + std::string(40, 'x') + "...' (a cell of 5000 bytes) is not a number");
+}
 
 TEST(MeasuredDataCsvErrorType, IsACoreErrorWithTheWholeMessage) {
   try {

@@ -35,6 +35,17 @@ const std::vector<double> kAwkwardDoubles = {0.1,
                                              -std::numeric_limits<double>::max(),
                                              std::numeric_limits<double>::epsilon()};
 
+const std::vector<double> kAwkwardRanges = {0.1,
+                                            1e-300,
+                                            -0.0,
+                                            0.0,
+                                            1.0 / 3.0,
+                                            2997.0,
+                                            81910.0,
+                                            std::numeric_limits<double>::denorm_min(),
+                                            std::numeric_limits<double>::min(),
+                                            std::numeric_limits<double>::epsilon()};
+
 // A table as a recording could hold one: columns in a random order with unknown ones among
 // them, time ties, power switching with no range while off, beams, holding true ranges.
 MeasurementTable random_table(std::uint64_t seed) {
@@ -43,6 +54,16 @@ MeasurementTable random_table(std::uint64_t seed) {
   const auto number = [&] {
     if (chance(0.3)) return kAwkwardDoubles[random() % kAwkwardDoubles.size()];
     return std::uniform_real_distribution<double>(-5000.0, 5000.0)(random);
+  };
+  // Ranges and reference distances within what an LMS 200 reports (0 to 81910 mm), awkward
+  // ones among them.
+  const auto range = [&] {
+    if (chance(0.3)) return kAwkwardRanges[random() % kAwkwardRanges.size()];
+    return std::uniform_real_distribution<double>(0.0, 8191.0)(random);
+  };
+  const auto reference = [&] {
+    const double r = range();
+    return r > 0.0 ? r : 3000.0;
   };
   MeasurementTable table;
   table.metadata = {{"sensor", "LMS200"}, {"seed", std::to_string(seed)}, {"note", ""}};
@@ -62,11 +83,11 @@ MeasurementTable random_table(std::uint64_t seed) {
     } else if (chance(0.05)) {
       row.power = power;  // repeating the power in force
     }
-    if (power && chance(0.6)) row.range_mm = number();
+    if (power && chance(0.6)) row.range_mm = range();
     if (chance(0.5)) row.beam = static_cast<int>(random() % 361);
     if (chance(0.2)) row.case_temp_c = number();
     if (chance(0.1)) row.ambient_c = number();
-    if (chance(0.1)) row.true_range_mm = number();
+    if (chance(0.1)) row.true_range_mm = reference();
     row.unknown_cells = {words[random() % words.size()], words[random() % words.size()]};
     table.rows.push_back(row);
   }

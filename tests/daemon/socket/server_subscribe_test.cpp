@@ -17,6 +17,14 @@ using nlohmann::json;
 
 constexpr auto kTimeout = 30s;
 
+// Room for every scan these tests publish before their subscribers read: 100 full scans of
+// about 90 KB each (the bound itself is tested in server_slow_clients_test.cpp).
+sock::SocketServerSettings roomy() {
+  sock::SocketServerSettings settings;
+  settings.max_queued_bytes_per_client = 16u << 20;
+  return settings;
+}
+
 json next_scan(ScanSubscription& subscription) {
   auto scan = subscription.next(kTimeout);
   if (!scan) throw std::runtime_error("no scan within the timeout");
@@ -24,7 +32,7 @@ json next_scan(ScanSubscription& subscription) {
 }
 
 TEST(ServerSubscribe, HundredScansArriveInOrderWithValuesRangesAndDecimation) {
-  SocketHarness h;
+  SocketHarness h(roomy());
   h.start_server();
   SocketClient every_client(h.path(), kTimeout);
   SocketClient twin_client(h.path(), kTimeout);
@@ -113,7 +121,7 @@ TEST(ServerSubscribe, RangeBeyondTheLatestScanIsRefusedAndLaterScansAreClipped) 
 }
 
 TEST(ServerSubscribe, SubscriberThatHangsUpMidStreamIsForgotten) {
-  SocketHarness h;
+  SocketHarness h(roomy());
   h.start_server();
   SocketClient staying_client(h.path(), kTimeout);
   ScanSubscription staying(staying_client, std::nullopt, 1, kTimeout);

@@ -163,7 +163,7 @@ TEST(ErrorCodeNames, RoundTripAndUnknownNames) {
       {ErrorCode::BadRequest, "bad_request"},  {ErrorCode::UnknownOp, "unknown_op"},
       {ErrorCode::TooLong, "too_long"},        {ErrorCode::BadRange, "bad_range"},
       {ErrorCode::Unavailable, "unavailable"}, {ErrorCode::Refused, "refused"},
-      {ErrorCode::Internal, "internal"}};
+      {ErrorCode::Internal, "internal"},       {ErrorCode::Forbidden, "forbidden"}};
   for (const auto& [code, name] : names) {
     EXPECT_EQ(to_string(code), name);
     EXPECT_EQ(error_code_from_string(name), code);

@@ -1,0 +1,56 @@
+// Training with a held-out part: see held_out_training.hpp.
+#include "calibration/held_out_training.hpp"
+
+#include <fmt/format.h>
+
+#include "calibration/compensation.hpp"
+#include "calibration/window_evaluation.hpp"
+#include "core/error.hpp"
+
+namespace tofcomp::calibration {
+
+core::ErrorMoments held_out_error(const MeasuredData& data, const core::Calibration& calibration) {
+  const Compensation compensation = compensate(data, calibration);
+  const std::vector<WindowEvaluation> evaluation =
+      evaluate_windows(data, calibration, compensation, {kHeldOutWindow}, kHeldOutStride);
+  return evaluation.front().em;
+}
+
+HeldOutTraining train_with_held_out(const MeasuredData& data, const TrainSettings& settings,
+                                    const core::Calibration* running) {
+  HeldOutTraining out;
+  const auto whole = [&](const std::string& why) {
+    out.training = train_calibration(data, settings);
+    out.note = "trained on all " + std::to_string(data.range_mm.size()) + " ranges; " + why;
+    return out;
+  };
+  if (running == nullptr) return whole("no running calibration to compare with");
+  const double split = split_time(data, kHeldOutTrainFraction);
+  const MeasuredData first = data.slice(-1e300, split);
+  const MeasuredData rest = data.slice(split, 1e300);
+  if (rest.range_mm.size() < kMinHeldOutRanges) {
+    return whole(
+        fmt::format("too short to hold a part out ({} ranges after t = {:.0f} s, fewer "
+                    "than {})",
+                    rest.range_mm.size(), split, kMinHeldOutRanges));
+  }
+  try {
+    out.training = train_calibration(first, settings);
+  } catch (const core::Error& e) {
+    return whole(fmt::format("its first part alone did not train ({})", e.what()));
+  }
+  rest.require_true_ranges();
+  HeldOutComparison c;
+  c.ranges = static_cast<long>(rest.range_mm.size());
+  const core::ErrorMoments fresh = held_out_error(rest, out.training.calibration);
+  const core::ErrorMoments old = held_out_error(rest, *running);
+  c.windows = static_cast<long>(fresh.count);
+  c.new_mae_mm = fresh.mean_absolute_error;
+  c.running_mae_mm = old.mean_absolute_error;
+  out.comparison = c;
+  out.note = fmt::format("trained on the {} ranges before t = {:.0f} s, {} after held out",
+                         first.range_mm.size(), split, rest.range_mm.size());
+  return out;
+}
+
+}  // namespace tofcomp::calibration

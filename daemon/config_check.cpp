@@ -1,0 +1,91 @@
+// The files of a configuration, loaded: see config_check.hpp.
+#include "daemon/config_check.hpp"
+
+#include <filesystem>
+
+#include "core/error.hpp"
+#include "io/calibration_file.hpp"
+#include "io/checked_file.hpp"
+#include "io/datasheet_file.hpp"
+#include "io/measured_data_csv.hpp"
+#include "settings/daemon_config_adapters.hpp"
+#include "settings/pipeline_setup.hpp"
+
+namespace tofcomp::daemon {
+
+namespace {
+
+constexpr std::uint64_t kMib = 1u << 20;
+
+// Runs `load`; a failure becomes an error naming the configuration, the key and the file.
+template <class Load>
+void loads(const settings::DaemonConfig& config, const std::string& key,
+           const std::filesystem::path& file, Load load) {
+  try {
+    load();
+  } catch (const std::exception& e) {
+    throw core::Error(config.source + ": " + key + " " + file.string() + ": " + e.what());
+  }
+}
+
+// Measured data as recalibration or the emulator would take them: a checked regular file under
+// the recording cap, read whole.
+void read_measured_data(const std::filesystem::path& file, std::uint64_t max_bytes) {
+  const io::CheckedFile checked =
+      io::open_checked_file(file, max_bytes, "recording", "recalibration.limits.recording_mib");
+  io::read_measured_data_file(file);
+}
+
+}  // namespace
+
+std::string check_configuration(const settings::DaemonConfig& config) {
+  std::string loaded;
+  const auto note = [&](const std::string& what) { loaded += "; " + what; };
+  const settings::RecalibrationConfig& recal = config.recalibration;
+  const std::uint64_t recording_cap = recal.limits.recording_mib * kMib;
+
+  if (!config.calibration.file.empty()) {
+    const bool made_at_start = recal.trigger == settings::RecalibrationTrigger::AtStartIfMissing &&
+                               !std::filesystem::exists(config.calibration.file);
+    if (made_at_start) {
+      note("calibration " + config.calibration.file.string() + " missing: made at start");
+    } else {
+      loads(config, "calibration.file", config.calibration.file, [&] {
+        auto calibration = settings::read_configured_calibration(config);
+        realtime::CompensationPipeline pipeline(settings::pipeline_settings(config));
+        pipeline.set_calibration(calibration, 1);
+        note("calibration " + config.calibration.file.string() +
+             (calibration->extension
+                  ? " with the " + io::effect_token(calibration->extension->effect) + " extension"
+                  : std::string()));
+      });
+    }
+  }
+  if (config.emulator.enabled) {
+    // The scenario, loaded as the emulator takes it (its errors name emulator.scenario).
+    settings::emulator_settings(config);
+    note("scenario " + config.emulator.scenario.string());
+    if (!config.emulator.recording.empty()) {
+      loads(config, "emulator.recording", config.emulator.recording,
+            [&] { read_measured_data(config.emulator.recording, recording_cap); });
+      note("played recording " + config.emulator.recording.string());
+    }
+  }
+  if (recal.source != settings::RecalibrationSource::None) {
+    loads(config, "recalibration.datasheet", recal.datasheet,
+          [&] { io::read_datasheet_file(recal.datasheet.string()); });
+    note("datasheet " + recal.datasheet.string());
+  }
+  if (recal.source == settings::RecalibrationSource::Recording) {
+    loads(config, "recalibration.recording.data", recal.data,
+          [&] { read_measured_data(recal.data, recording_cap); });
+    note("recording " + recal.data.string());
+    if (!std::filesystem::is_directory(recal.recordings_directory)) {
+      throw core::Error(config.source + ": recalibration.recording.directory " +
+                        recal.recordings_directory.string() + ": not a directory");
+    }
+  }
+  return "valid" + loaded;
+}
+
+}  // namespace tofcomp::daemon

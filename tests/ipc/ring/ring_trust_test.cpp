@@ -1,0 +1,199 @@
+// The ring against other users and against its own object going wrong (issue 15): a ring whose
+// writer died is replaced even when its pid now belongs to another process (the writer's lock,
+// not the pid, says whether it runs); a ring planted under the name by another user is left
+// alone, the writer takes the alternative name and readers follow it, or refuse the planted one
+// naming its owner; a reader whose object is truncated under it gets an error, not SIGBUS.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "ipc/ring/ring_header.hpp"
+#include "ipc/ring/ring_reader.hpp"
+#include "ipc/ring/ring_writer.hpp"
+#include "tests/ipc/ring/ring_test_support.hpp"
+
+namespace tofcomp::ipc::ring {
+namespace {
+
+using testing::difference;
+using testing::known_scan;
+using testing::ScopedRingName;
+
+constexpr uid_t kNobody = 65534;  // Debian's nobody: neither root nor the test's user
+constexpr pid_t kInit = 1;        // a process that always runs
+
+// Runs `child` in a forked process (as user `uid` when given) and returns its exit status.
+template <class Child>
+int run_in_child(Child child, std::optional<uid_t> uid = std::nullopt) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (uid && (::setgid(*uid) != 0 || ::setuid(*uid) != 0)) ::_exit(100);
+    ::_exit(child());
+  }
+  int status = 0;
+  if (pid < 0 || ::waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
+}
+
+// A writer in a child process publishes `scans` known scans and ends without closing its ring
+// (as a crash or kill -9 leaves it).
+int leave_ring_behind(const std::string& name, std::uint64_t first, int scans) {
+  try {
+    auto* leaked = new RingWriter(name, 8, 4);
+    for (int s = 0; s < scans; ++s) leaked->publish(known_scan(first + s, 4));
+    return 0;
+  } catch (...) {
+    return 1;
+  }
+}
+
+// Rewrites the header's writer_pid of ring `name`, as a reused pid would make it.
+void set_writer_pid(const std::string& name, std::int32_t pid) {
+  const int fd = ::shm_open(name.c_str(), O_RDWR, 0);
+  ASSERT_GE(fd, 0);
+  void* base = ::mmap(nullptr, sizeof(RingHeader), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  ASSERT_NE(base, MAP_FAILED);
+  reinterpret_cast<RingHeader*>(base)->writer_pid = pid;
+  ::munmap(base, sizeof(RingHeader));
+  ::close(fd);
+}
+
+TEST(RingTrust, ADeadWritersRingIsReplacedEvenWhenItsPidRunsAgain) {
+  const ScopedRingName name("reused-pid");
+  ASSERT_EQ(run_in_child([&] { return leave_ring_behind(name, 0, 3); }), 0);
+  set_writer_pid(name, kInit);  // the dead writer's pid now names a running process
+  RingReader reader(name);
+  EXPECT_EQ(reader.info().writer_pid, kInit);
+  EXPECT_FALSE(reader.writer_running());  // nobody holds its lock
+  RingWriter restarted(name, 8, 4);
+  restarted.publish(known_scan(7, 4));
+  EXPECT_EQ(reader.latest()->sequence, 7u);
+  EXPECT_TRUE(reader.writer_running());
+}
+
+TEST(RingTrust, TheWritersLockNotItsPidSaysItRuns) {
+  const ScopedRingName name("lock");
+  RingWriter writer(name, 4, 4);
+  RingReader reader(name);
+  EXPECT_TRUE(reader.writer_running());
+  set_writer_pid(name, 0);  // whatever the header says
+  EXPECT_TRUE(reader.writer_running());
+}
+
+TEST(RingTrust, AShrunkObjectIsAnErrorNotSigbus) {
+  const ScopedRingName name("shrunk");
+  auto writer = std::make_unique<RingWriter>(name, 8, 64);
+  for (std::uint64_t s = 0; s < 5; ++s) writer->publish(known_scan(s, 64));
+  RingReader reader(name);
+  reader.rewind_to_oldest();
+  EXPECT_EQ(reader.read_new().scans.size(), 5u);
+  writer->publish(known_scan(5, 64));
+  // Truncated under the reader's mapping (by its owner, the one user who may).
+  const int fd = ::shm_open(name.str().c_str(), O_RDWR, 0);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::ftruncate(fd, 64), 0);
+  ::close(fd);
+  const std::string expected =
+      "shm object '" + name.str() + "' shrank to 64 bytes while it was read";
+  for (int call = 0; call < 4; ++call) {
+    try {
+      if (call == 0) reader.read_new();
+      if (call == 1) reader.latest();
+      if (call == 2) reader.info();
+      if (call == 3) reader.writer_running();
+      ADD_FAILURE() << "call " << call << " read the truncated ring";
+    } catch (const core::Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(expected, 0), 0u) << e.what();
+    }
+  }
+  writer.reset();  // the writer's own pages: its header's page is still there
+}
+
+TEST(RingTrust, ARingPlantedByAnotherUserIsLeftAloneAndReadersFollowTheAlternative) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to plant a ring as another user";
+  const ScopedRingName name("planted");
+  const std::string alternative = alternative_ring_name(name, ::geteuid());
+  ::shm_unlink(alternative.c_str());
+  // Another user makes a complete ring under the name first, with a fake scan in it, and even
+  // holds its writer's lock while the daemon starts.
+  int ready[2];
+  int release[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  ASSERT_EQ(::pipe(release), 0);
+  const pid_t planter = ::fork();
+  ASSERT_GE(planter, 0);
+  if (planter == 0) {
+    int code = 0;
+    ::close(ready[0]);
+    ::close(release[1]);
+    if (::setgid(kNobody) != 0 || ::setuid(kNobody) != 0) ::_exit(100);
+    try {
+      RingWriter fake(name, 4, 4, RingWriterOptions{0644, true, false});
+      fake.publish(known_scan(666, 4));
+      char byte = 'r';
+      if (::write(ready[1], &byte, 1) != 1) code = 2;
+      if (::read(release[0], &byte, 1) != 1) code = 3;
+    } catch (...) {
+      code = 1;
+    }
+    ::_exit(code);
+  }
+  // Whatever happens below, the planter is let go and reaped.
+  struct Release {
+    int fd;
+    pid_t pid;
+    ~Release() {
+      const char go = 'g';
+      [[maybe_unused]] const ssize_t n = ::write(fd, &go, 1);
+      ::close(fd);
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, nullptr, 0);
+    }
+  } release_planter{release[1], planter};
+  ::close(ready[1]);
+  ::close(release[0]);
+  char byte = 0;
+  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  ::close(ready[0]);
+
+  // A writer that may not take an alternative refuses, naming the owner; the object stays.
+  try {
+    RingWriter refused(name, 8, 4);
+    ADD_FAILURE() << "took the planted name";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("belongs to uid 65534"), std::string::npos) << e.what();
+  }
+  // Readers refuse the planted ring while tofcompd has no alternative.
+  try {
+    RingReader reader(name);
+    ADD_FAILURE() << "read the planted ring";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("belongs to uid 65534"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(alternative), std::string::npos) << e.what();
+  }
+  {
+    RingWriter writer(name, 8, 4, RingWriterOptions{0640, false, true});
+    EXPECT_EQ(writer.name(), alternative);
+    EXPECT_EQ(writer.foreign_owner(), kNobody);
+    writer.publish(known_scan(1, 4));
+    RingReader reader(name);
+    EXPECT_EQ(reader.name(), alternative);
+    EXPECT_EQ(reader.foreign_owner(), kNobody);
+    const auto latest = reader.latest();
+    ASSERT_TRUE(latest.has_value());
+    EXPECT_EQ(difference(*latest, known_scan(1, 4)), "");  // the real scan, not the fake
+    // A reader that accepts the other user too reads the planted ring: the owners decide.
+    RingReader trusting(name, RingReaderOptions{{kNobody}});
+    EXPECT_EQ(trusting.latest()->sequence, 666u);
+  }
+  struct stat st {};
+  EXPECT_EQ(::stat(("/dev/shm" + name.str()).c_str(), &st), 0);  // left where it was
+  EXPECT_EQ(st.st_uid, kNobody);
+}
+
+}  // namespace
+}  // namespace tofcomp::ipc::ring
