@@ -16,12 +16,42 @@ core::ErrorMoments held_out_error(const MeasuredData& data, const core::Calibrat
   return evaluation.front().em;
 }
 
+namespace {
+
+// The search of model_search.hpp on the ranges `trained` was trained on; its kept terms replace
+// the training's calibration by the extended one. Returns what the note says of it.
+std::string extend_by_search(const MeasuredData& trained_on, const ModelSearchOptions& options,
+                             HeldOutTraining& out) {
+  ModelSearchResult search;
+  try {
+    search = search_model(trained_on, out.training.calibration, out.training.junction, options);
+  } catch (const core::Error& e) {
+    return fmt::format("the model search did not run ({}); the paper's model is kept", e.what());
+  }
+  if (search.kept.empty()) return "the model search kept no term";
+  std::string names;
+  for (const core::Term& term : search.kept) {
+    out.kept_terms.push_back(core::effect_name(term.label()));
+    names += (names.empty() ? "" : ", ") + out.kept_terms.back();
+  }
+  // The search refits the kept terms on all of `trained_on`, from the training's model.
+  out.training.calibration = std::move(search.calibration);
+  return "the model search kept " + names;
+}
+
+}  // namespace
+
 HeldOutTraining train_with_held_out(const MeasuredData& data, const TrainSettings& settings,
-                                    const core::Calibration* running) {
+                                    const core::Calibration* running,
+                                    const ModelSearchOptions* search) {
   HeldOutTraining out;
+  const auto searched = [&](const MeasuredData& trained_on) {
+    if (search != nullptr) out.note += "; " + extend_by_search(trained_on, *search, out);
+  };
   const auto whole = [&](const std::string& why) {
     out.training = train_calibration(data, settings);
     out.note = "trained on all " + std::to_string(data.range_mm.size()) + " ranges; " + why;
+    searched(data);
     return out;
   };
   if (running == nullptr) return whole("no running calibration to compare with");
@@ -39,6 +69,9 @@ HeldOutTraining train_with_held_out(const MeasuredData& data, const TrainSetting
   } catch (const core::Error& e) {
     return whole(fmt::format("its first part alone did not train ({})", e.what()));
   }
+  out.note = fmt::format("trained on the {} ranges before t = {:.0f} s, {} after held out",
+                         first.range_mm.size(), split, rest.range_mm.size());
+  searched(first);
   rest.require_true_ranges();
   HeldOutComparison c;
   c.ranges = static_cast<long>(rest.range_mm.size());
@@ -48,8 +81,6 @@ HeldOutTraining train_with_held_out(const MeasuredData& data, const TrainSetting
   c.new_mae_mm = fresh.mean_absolute_error;
   c.running_mae_mm = old.mean_absolute_error;
   out.comparison = c;
-  out.note = fmt::format("trained on the {} ranges before t = {:.0f} s, {} after held out",
-                         first.range_mm.size(), split, rest.range_mm.size());
   return out;
 }
 

@@ -56,7 +56,7 @@ std::string check_configuration(const settings::DaemonConfig& config) {
         pipeline.set_calibration(calibration, 1);
         note("calibration " + config.calibration.file.string() +
              (calibration->extension
-                  ? " with the " + io::effect_token(calibration->extension->effect) + " extension"
+                  ? " with the " + calibration->extension->name() + " extension"
                   : std::string()));
       });
     }

@@ -138,6 +138,7 @@ void Recalibration::start_training(io::CheckedFile data, int beam) {
   }
   job.limits.time = config.recalibration.limits.time;
   job.limits.memory_bytes = config.recalibration.limits.memory_mib * kMib;
+  job.model_search = config.recalibration.model_search;
   worker_.start(std::move(job));
 }
 

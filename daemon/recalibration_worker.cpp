@@ -52,6 +52,7 @@ RecalibrationWorker::Outcome RecalibrationWorker::work(const Job& job) {
     request.datasheet = job.datasheet;
     if (job.running) request.running_calibration = io::calibration_to_yaml(*job.running);
     request.limits = job.limits;
+    request.model_search = job.model_search;
     const TrainingReport report = process_.run(request);
     auto trained = std::make_shared<core::Calibration>(
         io::parse_calibration_yaml(report.calibration_yaml, "the trained calibration"));

@@ -31,6 +31,7 @@ class RecalibrationWorker {
     // The calibration in use, for the held-out comparison; null when none.
     std::shared_ptr<const core::Calibration> running;
     TrainingLimits limits;
+    bool model_search = true;  // the search of closing the loop runs on the part trained on
   };
 
   struct Outcome {

@@ -83,6 +83,7 @@ nlohmann::json report(const calibration::HeldOutTraining& trained) {
   return {{"calibration", io::calibration_to_yaml(trained.training.calibration)},
           {"trained_ranges", trained.training.calibration.provenance.samples},
           {"note", trained.note},
+          {"kept_terms", trained.kept_terms},
           {"held_out", held_out}};
 }
 
@@ -91,10 +92,13 @@ nlohmann::json report(const calibration::HeldOutTraining& trained) {
 int training_child_main(int argc, char** argv) {
   std::map<std::string, std::string> options;
   bool has_running = false;
+  bool model_search = false;
   for (int i = 2; i < argc; ++i) {
     const std::string key = argv[i];
     if (key == "--running-calibration-on-fd-3") {
       has_running = true;
+    } else if (key == "--model-search") {
+      model_search = true;
     } else if (key.starts_with("--") && i + 1 < argc) {
       options[key] = argv[++i];
     } else {
@@ -124,8 +128,9 @@ int training_child_main(int argc, char** argv) {
     }
     calibration::TrainSettings settings;
     settings.thermal.datasheet = io::read_datasheet_file(options["--datasheet"]);
-    const calibration::HeldOutTraining trained =
-        calibration::train_with_held_out(data, settings, running ? &*running : nullptr);
+    const calibration::ModelSearchOptions search;  // the defaults of tofcomp diagnose
+    const calibration::HeldOutTraining trained = calibration::train_with_held_out(
+        data, settings, running ? &*running : nullptr, model_search ? &search : nullptr);
     // A file name need not be UTF-8: such bytes are replaced rather than fail the report.
     const std::string text =
         report(trained).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";

@@ -183,6 +183,7 @@ TrainingReport TrainingProcess::run(const TrainingRequest& request) {
                                    "--time-s",       std::to_string(request.limits.time.count()),
                                    "--parent-pid",   std::to_string(::getpid())};
   if (running.get() >= 0) args.push_back("--running-calibration-on-fd-3");
+  if (request.model_search) args.push_back("--model-search");
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

@@ -39,6 +39,7 @@ struct TrainingRequest {
   // The running calibration's file text, for the held-out comparison; empty when none.
   std::string running_calibration;
   TrainingLimits limits;
+  bool model_search = true;  // closing the loop: the model search on the part trained on
   std::filesystem::path program = "/proc/self/exe";  // tofcompd itself
 };
 

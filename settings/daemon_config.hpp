@@ -176,6 +176,9 @@ struct RecalibrationConfig {
   // recording.directory); by default the directory of `data`.
   std::filesystem::path recordings_directory;
   RecalibrationLimits limits;
+  // Closing the loop (docs/closing-the-loop.md): the model search runs on the part trained on and
+  // the calibration carries the terms it keeps. Key model_search.
+  bool model_search = true;
   PowerCycleRunConfig power_cycle_run;  // source power_cycle_run
 };
 

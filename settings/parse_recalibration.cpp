@@ -61,7 +61,8 @@ void parse_recalibration(const io::YamlMap& root, const ParseContext& context,
   out.output = calibration.file;
   const auto map = fields::section(
       root, "recalibration",
-      {"source", "trigger", "datasheet", "output", "recording", "power_cycle_run", "limits"});
+      {"source", "trigger", "datasheet", "output", "recording", "power_cycle_run", "limits",
+       "model_search"});
   if (!map) return;
   out.source =
       fields::choice<RecalibrationSource>(*map, "source",
@@ -84,6 +85,7 @@ void parse_recalibration(const io::YamlMap& root, const ParseContext& context,
                       ? fields::path(*map, "datasheet", context.base_directory, {})
                       : fields::required_path(*map, "datasheet", context.base_directory);
   out.output = fields::path(*map, "output", context.base_directory, out.output);
+  out.model_search = map->boolean_or("model_search", out.model_search);
   if (const auto limits =
           fields::section(*map, "limits", {"time_s", "memory_mib", "recording_mib"})) {
     parse_limits(*limits, out.limits);

@@ -5,8 +5,13 @@
 # counterpart, and only the scorer reads the truth. The floor asserted here guards against a
 # regression; the figures themselves (a larger draw, its confusion table) are in
 # docs/closing-the-loop.md.
-#   at least 8 of the 12 effects named right first (kept first: the effect's parameter and
-#     covariate);
+#   at least 4 of the 12 effects named right first (kept first: the effect's parameter and
+#     covariate). The floor is set from a draw other than this one, not from this one's result:
+#     on the 24 single-effect sets of bench/blind's small draw the search named 15 right first
+#     (docs/closing-the-loop.md, "Blind evaluation"); at that rate, 12 sets name 3 or fewer right
+#     with probability under 1 % (binomial), and a guess among the grammar's ~60 candidates names
+#     one right with probability under 2 % per set. So a fall below 4 is a regression, not a
+#     bad draw; the accuracy itself is a figure of the docs, not of this test;
 #   nothing kept on both clean sets, and on at least 11 of the 12 clean counterparts;
 #   no run failed.
 set -euo pipefail
@@ -32,8 +37,8 @@ failures = score["failures"]
 problems = []
 if singles != 12:
     problems.append(f"the draw has {singles} single-effect sets, not 12")
-if right < 8:
-    problems.append(f"{right} of {singles} effects named right first (at least 8)")
+if right < 4:
+    problems.append(f"{right} of {singles} effects named right first (at least 4)")
 if clean["nothing_kept"] != clean["n"]:
     problems.append(f"something kept on {clean['n'] - clean['nothing_kept']} of {clean['n']} clean sets")
 if counterparts["nothing_kept"] < counterparts["n"] - 1:

@@ -10,7 +10,9 @@
 #include <cstdlib>
 #include <map>
 #include <optional>
+#include <thread>
 
+#include "core/effect_grammar.hpp"
 #include "io/calibration_file.hpp"
 #include "io/measured_data_csv.hpp"
 #include "ipc/ring/ring_reader.hpp"
@@ -273,6 +275,57 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
   const core::Calibration written =
       io::read_calibration_file((dir.path() / "calibration.yaml").string());
   EXPECT_EQ(written.provenance.data_set, data.string());
+  EXPECT_EQ(daemon.terminate(), 0) << daemon.log();
+}
+
+// Closing the loop in the daemon: a recalibration from a recording with a time drift (the twin's
+// effect-time-drift scenario) runs the model search on the part it trains on, and the calibration
+// swapped in carries the drift term: status names it, the file written holds it, and the
+// recalibration's note says what the search kept.
+TEST(DaemonEndToEnd, RecalibrationCarriesWhatTheModelSearchKeeps) {
+  TemporaryDirectory dir;
+  const std::string root = TOFCOMP_SOURCE_ROOT;
+  const auto data = dir.path() / "drift.csv";
+  const std::string simulate = std::string(TOFCOMP_BINARY) + " -q simulate " + root +
+                               "/config/scenarios/effect-time-drift.yaml -o " + data.string();
+  ASSERT_EQ(std::system(simulate.c_str()), 0);
+  std::filesystem::copy_file(root + "/config/calibration.yaml", dir.path() / "calibration.yaml");
+  const std::string shm = "/tofcomp-e2e-search-" + std::to_string(::getpid());
+  const auto config = dir.path() / "tofcompd.yaml";
+  write_file(config, config_text(dir.path(), shm, "calibration.yaml") +
+                         "recalibration:\n"
+                         "  source: recording\n"
+                         "  recording: {data: drift.csv}\n"
+                         "  datasheet: " +
+                         root + "/config/lms200-datasheet.yaml\n");
+  DaemonProcess daemon(config, dir.path() / "tofcompd.log");
+  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
+  const nlohmann::json started = client.request({{"op", "recalibrate"}}, 10s);
+  ASSERT_TRUE(started.value("ok", false)) << started.dump();
+  nlohmann::json status;
+  std::string state;
+  for (const auto until = std::chrono::steady_clock::now() + 300s;
+       std::chrono::steady_clock::now() < until;) {
+    status = client.request({{"op", "status"}}, 10s);
+    state = status["status"]["recalibration"].get<std::string>();
+    if (state.rfind("done", 0) == 0 || state.rfind("failed", 0) == 0 ||
+        state.rfind("rejected", 0) == 0) {
+      break;
+    }
+    std::this_thread::sleep_for(200ms);
+  }
+  ASSERT_EQ(state.rfind("done", 0), 0u) << status.dump() << "\n" << daemon.log();
+  const std::string drift = core::effect_name({core::Parameter::Bias, core::Covariate::Time});
+  EXPECT_NE(state.find("the model search kept " + drift), std::string::npos) << state;
+  const nlohmann::json& calibration = status["status"]["calibration"];
+  EXPECT_EQ(calibration["id"], 2) << status.dump();
+  ASSERT_TRUE(calibration["extension"].is_string()) << status.dump();
+  EXPECT_EQ(calibration["extension"].get<std::string>().rfind(drift, 0), 0u) << status.dump();
+  const core::Calibration written =
+      io::read_calibration_file((dir.path() / "calibration.yaml").string());
+  ASSERT_TRUE(written.extension.has_value());
+  EXPECT_EQ(written.extension->name(), calibration["extension"].get<std::string>());
   EXPECT_EQ(daemon.terminate(), 0) << daemon.log();
 }
 
