@@ -103,15 +103,11 @@ std::string YamlMap::text_or(std::string_view key, std::string fallback) const {
 
 namespace {
 
-// No file of the project's YAML (calibration, datasheet, scenario) comes near these: beyond
-// them a document is refused before it can cost much (a deep, long or alias-multiplied one).
+// No file of the project's YAML (calibration, datasheet, scenario) comes near it.
 constexpr std::uint64_t kMaxYamlFileBytes = 16u << 20;
-constexpr int kMaxYamlDepth = 32;
-constexpr long kMaxYamlValues = 1000000;
 
 std::string position(const std::string& source, const YAML::Mark& mark) {
-  if (mark.is_null()) return source;
-  return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+  return yaml_position(source, mark);
 }
 
 [[noreturn]] void syntax_error(const std::string& source, const YAML::ParserException& e) {
@@ -142,15 +138,16 @@ class DocumentStarts : public YAML::EventHandler {
 // beyond any file of ours.
 class ShapeCheck {
  public:
-  explicit ShapeCheck(const std::string& source) : source_(source) {}
+  ShapeCheck(const std::string& source, const YamlShapeLimits& limits)
+      : source_(source), limits_(limits) {}
 
   void check(const YAML::Node& node, const std::string& path, int depth) {
-    if (depth > kMaxYamlDepth) {
+    if (depth > limits_.max_depth) {
       throw YamlSchemaError(position(source_, node.Mark()) + ": " + path + " nests deeper than " +
-                            std::to_string(kMaxYamlDepth) + " levels");
+                            std::to_string(limits_.max_depth) + " levels");
     }
-    if (++values_ > kMaxYamlValues) {
-      throw YamlSchemaError(source_ + ": holds more than " + std::to_string(kMaxYamlValues) +
+    if (++values_ > limits_.max_values) {
+      throw YamlSchemaError(source_ + ": holds more than " + std::to_string(limits_.max_values) +
                             " values (aliases counted each time)");
     }
     if (node.IsMap()) {
@@ -178,6 +175,7 @@ class ShapeCheck {
 
  private:
   const std::string& source_;
+  const YamlShapeLimits& limits_;
   long values_ = 0;
 };
 
@@ -195,6 +193,11 @@ YAML::Mark mark_at(const std::string& text, std::size_t offset) {
 
 }  // namespace
 
+std::string yaml_position(const std::string& source, const YAML::Mark& mark) {
+  if (mark.is_null()) return source;
+  return source + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+}
+
 YAML::Node load_yaml_file(const std::string& file) {
   std::string text;
   try {
@@ -207,7 +210,8 @@ YAML::Node load_yaml_file(const std::string& file) {
   return load_yaml_text(text, file);
 }
 
-YAML::Node load_yaml_text(const std::string& text, const std::string& source) {
+YAML::Node load_yaml_text(const std::string& text, const std::string& source,
+                          const YamlShapeLimits& limits) {
   if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {
     throw YamlSchemaError(position(source, mark_at(text, nul)) +
                           ": a NUL byte: a YAML file is text, and what follows a NUL would be "
@@ -225,7 +229,7 @@ YAML::Node load_yaml_text(const std::string& text, const std::string& source) {
           "line YAML cannot read)");
     }
     const YAML::Node document = YAML::Load(text);
-    ShapeCheck(source).check(document, "", 0);
+    ShapeCheck(source, limits).check(document, "", 0);
     return document;
   } catch (const YAML::ParserException& e) {
     syntax_error(source, e);

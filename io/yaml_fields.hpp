@@ -52,12 +52,25 @@ class YamlMap {
   std::string path_;
 };
 
+// How deep and how large a document may be: beyond either it is refused before it can cost
+// much (a deeply nested, self-referencing or alias-multiplied one, "billion laughs"). No file of
+// the project's YAML (calibration, datasheet, scenario) comes near the defaults.
+struct YamlShapeLimits {
+  int max_depth = 32;
+  long max_values = 1000000;  // aliases counted each time they are used
+};
+
+// "calibration.yaml:12:3" (1-based), or just the source when the mark is unknown.
+std::string yaml_position(const std::string& source, const YAML::Mark& mark);
+
 // Loads a YAML file; a missing file or a syntax error is a YamlSchemaError naming the file and
 // the line. Strict beyond YAML's syntax: the file must be a regular file of at most 16 MiB
 // (io/checked_file.hpp: no FIFO, device or link), hold one document, no NUL byte, no key twice in
-// a mapping, no key that is not plain text, and nest no deeper than 32 levels.
+// a mapping, no key that is not plain text, and stay within the default YamlShapeLimits.
 YAML::Node load_yaml_file(const std::string& file);
-// The same for text in memory; `source` names it in errors.
-YAML::Node load_yaml_text(const std::string& text, const std::string& source);
+// The same for text in memory; `source` names it in errors. Text without a document (empty,
+// comments only) gives a null node.
+YAML::Node load_yaml_text(const std::string& text, const std::string& source,
+                          const YamlShapeLimits& limits = {});
 
 }  // namespace tofcomp::io

@@ -8,13 +8,10 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <set>
-#include <sstream>
 
 #include "io/checked_file.hpp"
 #include "io/yaml_fields.hpp"
 #include "settings/section_parsers.hpp"
-#include "settings/yaml_document.hpp"
 
 namespace tofcomp::settings {
 
@@ -23,61 +20,19 @@ namespace {
 // No key of the schema is deeper than this, and no configuration holds this many values: the
 // shape check stops with an error beyond either, so that a deeply nested, self-referencing or
 // alias-multiplied document ("billion laughs") costs little.
-constexpr int kMaxDepth = 16;
-constexpr long kMaxValues = 100000;
+constexpr io::YamlShapeLimits kConfigShapeLimits{.max_depth = 16, .max_values = 100000};
 constexpr std::uint64_t kMaxConfigBytes = 1u << 20;
 
-std::string child(const std::string& path, const std::string& key) {
-  return path.empty() ? key : path + "." + key;
-}
-
-// Rejects what io::YamlMap cannot see: a key given twice in one mapping (YAML forbids it; the
-// later one would be ignored) and keys that are not plain text.
-class ShapeCheck {
- public:
-  explicit ShapeCheck(const std::string& source) : source_(source) {}
-
-  void check(const YAML::Node& node, const std::string& path, int depth) {
-    if (depth > kMaxDepth) {
-      throw DaemonConfigError(yaml_position(source_, node.Mark()) + ": " + path +
-                              " nests deeper than any key of the configuration");
-    }
-    if (++values_ > kMaxValues) {
-      throw DaemonConfigError(source_ + ": holds more than " + std::to_string(kMaxValues) +
-                              " values (aliases counted each time); no configuration is that "
-                              "large");
-    }
-    if (node.IsMap()) {
-      std::set<std::string> seen;
-      for (const auto& entry : node) {
-        if (!entry.first.IsScalar()) {
-          throw DaemonConfigError(yaml_position(source_, entry.first.Mark()) + ": " +
-                                  (path.empty() ? std::string("the document") : path) +
-                                  " has a key that is not plain text");
-        }
-        const std::string key = child(path, entry.first.Scalar());
-        if (!seen.insert(entry.first.Scalar()).second) {
-          throw DaemonConfigError(yaml_position(source_, entry.first.Mark()) + ": " + key +
-                                  " is given twice");
-        }
-        check(entry.second, key, depth + 1);
-      }
-    } else if (node.IsSequence()) {
-      for (std::size_t i = 0; i < node.size(); ++i) {
-        check(node[i], path + "[" + std::to_string(i) + "]", depth + 1);
-      }
-    }
-  }
-
- private:
-  const std::string& source_;
-  long values_ = 0;
-};
-
+// The text to one document, strictly (io::load_yaml_text: one document, no NUL, no key twice,
+// only text keys, within the limits); an empty configuration is an empty mapping.
 YAML::Node parse_document(std::string_view text, const std::string& source) {
-  const YAML::Node document = load_single_yaml_document(text, source);
+  YAML::Node document;
+  try {
+    document = io::load_yaml_text(std::string(text), source, kConfigShapeLimits);
+  } catch (const io::YamlSchemaError& e) {
+    throw DaemonConfigError(e.what());
+  }
   if (document.IsNull()) return YAML::Node(YAML::NodeType::Map);
-  ShapeCheck(source).check(document, "", 0);
   return document;
 }
 
@@ -121,7 +76,7 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
     throw;
   } catch (const YAML::Exception& e) {
     // yaml-cpp's own conversions, should a node surprise the reader.
-    throw DaemonConfigError(yaml_position(source_name, e.mark) + ": " + e.msg);
+    throw DaemonConfigError(io::yaml_position(source_name, e.mark) + ": " + e.msg);
   } catch (const core::Error& e) {
     throw DaemonConfigError(source_name + ": " + e.what());
   } catch (const std::filesystem::filesystem_error& e) {

@@ -28,6 +28,7 @@
 #include "ipc/socket/client.hpp"
 #include "tests/daemon/e2e/daemon_process.hpp"
 #include "tests/daemon/e2e/e2e_config.hpp"
+#include "tests/support/planted_ring.hpp"
 
 namespace tofcomp::test {
 namespace {
@@ -330,50 +331,17 @@ TEST(DaemonHardening, ARingPlantedByAnotherUserDoesNotStopTheDaemon) {
   if (::geteuid() != 0) GTEST_SKIP() << "needs root to plant a ring as another user";
   HardenedDaemon d("planted");
   const std::string alternative = ipc::ring::alternative_ring_name(d.shm, ::geteuid());
-  // Another user takes the ring's name first and holds it, with a fake scan in it.
-  int ready[2];
-  int release[2];
-  ASSERT_EQ(::pipe(ready), 0);
-  ASSERT_EQ(::pipe(release), 0);
-  const pid_t planter = ::fork();
-  if (planter == 0) {
-    int code = 0;
-    ::close(ready[0]);
-    ::close(release[1]);
-    if (::setgid(kNobody) != 0 || ::setuid(kNobody) != 0) ::_exit(100);
-    try {
-      ipc::ring::RingWriter fake(d.shm, 4, 4, ipc::ring::RingWriterOptions{0644, true, false});
-      ipc::CompensatedScan scan;
-      scan.sequence = 666;
-      fake.publish(scan);
-      char byte = 'r';
-      if (::write(ready[1], &byte, 1) != 1) code = 2;
-      if (::read(release[0], &byte, 1) != 1) code = 3;
-    } catch (...) {
-      code = 1;
-    }
-    ::_exit(code);
-  }
-  // Whatever happens below, the planter is let go and reaped, and both names are removed.
-  struct Release {
-    int fd;
-    pid_t pid;
+  // Whatever happens below, both names are removed (after the planter is let go).
+  struct Unlink {
     std::string planted;
     std::string alternative;
-    ~Release() {
-      const char go = 'g';
-      [[maybe_unused]] const ssize_t n = ::write(fd, &go, 1);
-      ::close(fd);
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
+    ~Unlink() {
       ::shm_unlink(planted.c_str());
       ::shm_unlink(alternative.c_str());
     }
-  } release_planter{release[1], planter, d.shm, alternative};
-  ::close(ready[1]);
-  ::close(release[0]);
-  char byte = 0;
-  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
+  } unlink_both{d.shm, alternative};
+  // Another user takes the ring's name first and holds it, with a fake scan in it.
+  const PlantedRing planted(d.shm);
   d.start();
   d.wait_for_status([](const json& s) { return s.contains("latest"); });
   const json stats = d.request({{"op", "stats"}});
@@ -385,10 +353,9 @@ TEST(DaemonHardening, ARingPlantedByAnotherUserDoesNotStopTheDaemon) {
   EXPECT_EQ(reader.name(), alternative);
   const auto latest = reader.latest();
   ASSERT_TRUE(latest.has_value());
-  EXPECT_NE(latest->sequence, 666u);
+  EXPECT_NE(latest->sequence, PlantedRing::kFakeSequence);
   EXPECT_EQ(latest->beams.size(), 361u);
   d.still_serves_and_stops();
-  ::close(ready[0]);
 }
 
 TEST(DaemonHardening, OneDaemonPerRuntimeDirectoryByItsLockNotItsPid) {

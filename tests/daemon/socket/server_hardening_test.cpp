@@ -24,12 +24,6 @@ using nlohmann::json;
 constexpr auto kTimeout = 30s;
 constexpr uid_t kNobody = 65534;  // Debian's nobody: a user that is neither root nor this one
 
-json read_json(SocketClient& client) {
-  const auto line = client.read_line(kTimeout);
-  if (!line) throw std::runtime_error("no line within the timeout");
-  return json::parse(*line);
-}
-
 TEST(ServerAuthorization, ControlIsForbiddenToUsersNotAllowedReadingIsNot) {
   sock::SocketServerSettings settings;
   settings.control_uids = {::geteuid() + 4242};  // not this test's user: it may only read
@@ -137,7 +131,7 @@ TEST(ServerIdleTimeout, ASilentClientsSlotIsFreed) {
   h.start_server();
   SocketClient silent(h.path(), kTimeout);
   // The silent client is told why, then the stream ends.
-  const json told = read_json(silent);
+  const json told = read_json_line(silent, kTimeout);
   EXPECT_EQ(told["error"]["code"], "unavailable");
   EXPECT_EQ(told["error"]["message"],
             "connection: no request for 200 ms and no subscription (idle_timeout_s); closing it to "
@@ -159,11 +153,11 @@ TEST(ServerIdleTimeout, ASubscriberIsNotIdle) {
   ASSERT_TRUE(subscriber.call({{"op", "subscribe"}, {"beams", {0, 0}}}, kTimeout)["ok"]);
   SocketClient silent(h.path(), kTimeout);
   // The silent one goes; the subscriber, as silent, stays and gets the next scan.
-  EXPECT_EQ(read_json(silent)["error"]["code"], "unavailable");
+  EXPECT_EQ(read_json_line(silent, kTimeout)["error"]["code"], "unavailable");
   ASSERT_TRUE(h.wait_for_counters([](const auto& c) { return c.idle_clients_closed == 1; }));
   std::this_thread::sleep_for(3 * settings.idle_timeout);  // three more idle periods
   h.publish(make_scan(7));
-  const json event = read_json(subscriber);
+  const json event = read_json_line(subscriber, kTimeout);
   EXPECT_EQ(event["scan"]["sequence"], 7);
   EXPECT_EQ(h.counters().idle_clients_closed, 1u);
 }
@@ -182,7 +176,7 @@ TEST(ServerBackPressure, AClientThatPipelinesRequestsGetsEveryReplyInOrder) {
   }
   client.send_bytes(requests);
   for (int i = 0; i < kRequests; ++i) {
-    const json reply = read_json(client);
+    const json reply = read_json_line(client, kTimeout);
     ASSERT_EQ(reply["id"], i);
     ASSERT_EQ(reply["ok"], true) << reply.dump().substr(0, 200);
     ASSERT_EQ(reply["scan"]["beams"].size(), 361u);

@@ -18,6 +18,7 @@
 #include "core/error.hpp"
 #include "daemon/socket/request_handler.hpp"
 #include "daemon/socket/socket_server.hpp"
+#include "ipc/socket/client.hpp"
 
 namespace tofcomp::test {
 
@@ -55,6 +56,14 @@ class FakeDaemon : public sock::SocketRequestHandler {
 };
 
 // A scan whose every value is a known function of its sequence and beam index.
+// The next line a client reads, as JSON; throws when none comes within `timeout`.
+inline nlohmann::json read_json_line(ipc::socket::SocketClient& client,
+                                     std::chrono::milliseconds timeout) {
+  const auto line = client.read_line(timeout);
+  if (!line) throw std::runtime_error("no line within the timeout");
+  return nlohmann::json::parse(*line);
+}
+
 inline double raw_of(std::uint64_t sequence, std::size_t beam) {
   return 1000.0 + static_cast<double>(sequence % 1000) + static_cast<double>(beam);
 }

@@ -15,12 +15,6 @@ using nlohmann::json;
 
 constexpr auto kTimeout = 30s;
 
-json read_json(SocketClient& client) {
-  const auto line = client.read_line(kTimeout);
-  if (!line) throw std::runtime_error("no line within the timeout");
-  return json::parse(*line);
-}
-
 // The next read ends the stream: end of file, not a reset.
 void expect_clean_close(SocketClient& client) {
   try {
@@ -37,7 +31,7 @@ TEST(ServerLimits, RequestWithoutLineEndBeyondTheLimitIsTooLongThenClosed) {
   SocketClient other(h.path(), kTimeout);
   SocketClient client(h.path(), kTimeout);
   client.send_bytes(std::string(10000, 'a'));
-  EXPECT_EQ(read_json(client),
+  EXPECT_EQ(read_json_line(client, kTimeout),
             json::parse(R"j({"ok":false,"error":{"code":"too_long","message":)j"
                         R"j("request: more than 4096 bytes without a line end (the limit of a )j"
                         R"j(request)"}})j"));
@@ -52,7 +46,7 @@ TEST(ServerLimits, CompleteLineBeyondTheLimitIsTooLongThenClosed) {
   SocketClient client(h.path(), kTimeout);
   const std::string line = R"({"op":"status","id":")" + std::string(5000, 'i') + "\"}";
   client.send_line(line);
-  const json reply = read_json(client);
+  const json reply = read_json_line(client, kTimeout);
   EXPECT_EQ(reply["error"]["code"], "too_long");
   EXPECT_EQ(reply["error"]["message"], "request: " + std::to_string(line.size()) +
                                            " bytes, more than the limit of 4096 bytes");
@@ -64,8 +58,8 @@ TEST(ServerLimits, RequestsBeforeTheOverLongOneAreAnswered) {
   h.start_server();
   SocketClient client(h.path(), kTimeout);
   client.send_bytes("{\"id\":1,\"op\":\"status\"}\n" + std::string(9000, '{'));
-  EXPECT_EQ(read_json(client)["id"], 1);
-  EXPECT_EQ(read_json(client)["error"]["code"], "too_long");
+  EXPECT_EQ(read_json_line(client, kTimeout)["id"], 1);
+  EXPECT_EQ(read_json_line(client, kTimeout)["error"]["code"], "too_long");
   expect_clean_close(client);
 }
 
@@ -79,7 +73,7 @@ TEST(ServerLimits, ClientsBeyondMaxClientsGetAnErrorLineAndAreClosed) {
   EXPECT_TRUE(a->call({{"op", "status"}}, kTimeout)["ok"]);
   EXPECT_TRUE(b.call({{"op", "status"}}, kTimeout)["ok"]);
   SocketClient c(h.path(), kTimeout);
-  EXPECT_EQ(read_json(c),
+  EXPECT_EQ(read_json_line(c, kTimeout),
             json::parse(R"j({"ok":false,"error":{"code":"unavailable","message":)j"
                         R"j("connection: too many clients; 2 are connected, the most the daemon )j"
                         R"j(serves (max_clients)"}})j"));

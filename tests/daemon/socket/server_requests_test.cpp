@@ -15,12 +15,6 @@ using nlohmann::json;
 
 constexpr auto kTimeout = 30s;
 
-json read_json(SocketClient& client) {
-  const auto line = client.read_line(kTimeout);
-  if (!line) throw std::runtime_error("no line within the timeout");
-  return json::parse(*line);
-}
-
 TEST(ServerRequests, LatestBeforeAnyScanIsUnavailable) {
   SocketHarness h;
   h.start_server();
@@ -124,27 +118,27 @@ TEST(ServerRequests, MalformedLinesGetErrorsAndTheConnectionSurvives) {
   h.start_server();
   SocketClient client(h.path(), kTimeout);
   client.send_line("{oops");
-  const json bad = read_json(client);
+  const json bad = read_json_line(client, kTimeout);
   EXPECT_FALSE(bad.contains("id"));
   EXPECT_EQ(bad["error"]["code"], "bad_request");
   EXPECT_EQ(bad["error"]["message"].get<std::string>().rfind("request: not valid JSON", 0), 0u);
   client.send_line(R"({"id":2,"op":"fetch"})");
-  EXPECT_EQ(read_json(client)["error"]["code"], "unknown_op");
+  EXPECT_EQ(read_json_line(client, kTimeout)["error"]["code"], "unknown_op");
   client.send_line(R"({"id":3,"op":"subscribe","every":0})");
-  EXPECT_EQ(read_json(client), json::parse(R"({"id":3,"ok":false,"error":{"code":"bad_range",)"
+  EXPECT_EQ(read_json_line(client, kTimeout), json::parse(R"({"id":3,"ok":false,"error":{"code":"bad_range",)"
                                            R"("message":"every: 0 is outside 1..1000000"}})"));
   // Blank lines are skipped; a '\r' before the '\n' is allowed.
   client.send_bytes("\n\r\n{\"id\":4,\"op\":\"status\"}\r\n");
-  EXPECT_EQ(read_json(client)["id"], 4);
+  EXPECT_EQ(read_json_line(client, kTimeout)["id"], 4);
   // Two requests in one write, answered in order.
   client.send_bytes("{\"id\":5,\"op\":\"stats\"}\n{\"id\":6,\"op\":\"status\"}\n");
-  EXPECT_EQ(read_json(client)["id"], 5);
-  EXPECT_EQ(read_json(client)["id"], 6);
+  EXPECT_EQ(read_json_line(client, kTimeout)["id"], 5);
+  EXPECT_EQ(read_json_line(client, kTimeout)["id"], 6);
   // A request split over several writes.
   client.send_bytes("{\"id\":7,");
   client.send_bytes("\"op\":\"sta");
   client.send_bytes("tus\"}\n");
-  EXPECT_EQ(read_json(client)["id"], 7);
+  EXPECT_EQ(read_json_line(client, kTimeout)["id"], 7);
   const auto c = h.counters();
   EXPECT_EQ(c.requests, 7u);
   EXPECT_EQ(c.errors, 3u);
@@ -157,8 +151,8 @@ TEST(ServerRequests, SeveralClientsAreAnsweredIndependently) {
   SocketClient b(h.path(), kTimeout);
   a.send_line(R"({"id":"a1","op":"status"})");
   b.send_line(R"({"id":"b1","op":"stats"})");
-  EXPECT_EQ(read_json(b)["id"], "b1");
-  EXPECT_EQ(read_json(a)["id"], "a1");
+  EXPECT_EQ(read_json_line(b, kTimeout)["id"], "b1");
+  EXPECT_EQ(read_json_line(a, kTimeout)["id"], "a1");
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/ring/ring_writer.hpp"
 #include "tests/ipc/ring/ring_test_support.hpp"
+#include "tests/support/planted_ring.hpp"
 
 namespace tofcomp::ipc::ring {
 namespace {
@@ -23,7 +24,7 @@ using testing::difference;
 using testing::known_scan;
 using testing::ScopedRingName;
 
-constexpr uid_t kNobody = 65534;  // Debian's nobody: neither root nor the test's user
+constexpr uid_t kNobody = tofcomp::test::PlantedRing::kNobody;
 constexpr pid_t kInit = 1;        // a process that always runs
 
 // Runs `child` in a forked process (as user `uid` when given) and returns its exit status.
@@ -120,45 +121,7 @@ TEST(RingTrust, ARingPlantedByAnotherUserIsLeftAloneAndReadersFollowTheAlternati
   ::shm_unlink(alternative.c_str());
   // Another user makes a complete ring under the name first, with a fake scan in it, and even
   // holds its writer's lock while the daemon starts.
-  int ready[2];
-  int release[2];
-  ASSERT_EQ(::pipe(ready), 0);
-  ASSERT_EQ(::pipe(release), 0);
-  const pid_t planter = ::fork();
-  ASSERT_GE(planter, 0);
-  if (planter == 0) {
-    int code = 0;
-    ::close(ready[0]);
-    ::close(release[1]);
-    if (::setgid(kNobody) != 0 || ::setuid(kNobody) != 0) ::_exit(100);
-    try {
-      RingWriter fake(name, 4, 4, RingWriterOptions{0644, true, false});
-      fake.publish(known_scan(666, 4));
-      char byte = 'r';
-      if (::write(ready[1], &byte, 1) != 1) code = 2;
-      if (::read(release[0], &byte, 1) != 1) code = 3;
-    } catch (...) {
-      code = 1;
-    }
-    ::_exit(code);
-  }
-  // Whatever happens below, the planter is let go and reaped.
-  struct Release {
-    int fd;
-    pid_t pid;
-    ~Release() {
-      const char go = 'g';
-      [[maybe_unused]] const ssize_t n = ::write(fd, &go, 1);
-      ::close(fd);
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, nullptr, 0);
-    }
-  } release_planter{release[1], planter};
-  ::close(ready[1]);
-  ::close(release[0]);
-  char byte = 0;
-  ASSERT_EQ(::read(ready[0], &byte, 1), 1);
-  ::close(ready[0]);
+  const tofcomp::test::PlantedRing planted(name);
 
   // A writer that may not take an alternative refuses, naming the owner; the object stays.
   try {
@@ -188,7 +151,7 @@ TEST(RingTrust, ARingPlantedByAnotherUserIsLeftAloneAndReadersFollowTheAlternati
     EXPECT_EQ(difference(*latest, known_scan(1, 4)), "");  // the real scan, not the fake
     // A reader that accepts the other user too reads the planted ring: the owners decide.
     RingReader trusting(name, RingReaderOptions{{kNobody}});
-    EXPECT_EQ(trusting.latest()->sequence, 666u);
+    EXPECT_EQ(trusting.latest()->sequence, tofcomp::test::PlantedRing::kFakeSequence);
   }
   struct stat st {};
   EXPECT_EQ(::stat(("/dev/shm" + name.str()).c_str(), &st), 0);  // left where it was
