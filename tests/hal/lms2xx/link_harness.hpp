@@ -119,14 +119,23 @@ class LinkHarness {
     return faults_;
   }
   const std::vector<StateRecord>& states() const { return states_; }
-  // While running: when the last fault was injected and the last scan delivered.
+  // While running: when the last fault was injected.
   std::chrono::steady_clock::time_point last_fault_time() {
     std::lock_guard lock(mutex_);
     return faults_.empty() ? std::chrono::steady_clock::time_point{} : faults_.back().second;
   }
-  std::chrono::steady_clock::time_point last_scan_time() {
+  // While running: whether the host has delivered a scan the device sent after `when` (the
+  // device's clock, which also times its faults). One the host received after `when` may have
+  // been sent before it: the host reads the line on its own thread, a little after the device
+  // wrote it.
+  bool delivered_scan_sent_after(std::chrono::steady_clock::time_point when) {
     std::lock_guard lock(mutex_);
-    return received_.empty() ? std::chrono::steady_clock::time_point{} : received_.back().when;
+    if (received_.empty()) return false;
+    // Scans are delivered in the order sent, so the last one delivered is the latest sent.
+    for (auto s = sent_.rbegin(); s != sent_.rend() && s->when > when; ++s) {
+      if (s->codes == received_.back().codes) return true;
+    }
+    return false;
   }
 
   // Whether the host had the port open at `when`, by the driver's reported states: the last
