@@ -10,6 +10,7 @@
 
 #include "cli/beam_range_option.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "cli/scan_text.hpp"
 #include "core/error.hpp"
 #include "ipc/socket/client.hpp"
@@ -145,7 +146,7 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
   auto o = std::make_shared<QueryOptions>();
   cmd->add_option("--socket", o->socket, "tofcompd's socket")->capture_default_str();
   cmd->add_option("--timeout", o->timeout_s, "Seconds to wait to connect and for each answer")
-      ->check(CLI::PositiveNumber)
+      ->check(greater_than(0))
       ->capture_default_str();
   cmd->require_subcommand(1);
 
@@ -168,10 +169,10 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
 
   auto* subscribe = cmd->add_subcommand("subscribe", "Print scans as the daemon publishes them");
   subscribe->add_option("-n,--count", o->count, "Scans to print")
-      ->check(CLI::PositiveNumber)
+      ->check(at_least(1))
       ->capture_default_str();
   subscribe->add_option("--every", o->every, "Only scans whose sequence is a multiple of this")
-      ->check(CLI::Range(1u, ipcs::kMaxEvery))
+      ->check(between(1, ipcs::kMaxEvery))
       ->capture_default_str();
   subscribe->add_option("--beams", o->beams, "Beams FIRST:LAST (indices), or one index");
   subscribe->callback(
