@@ -33,7 +33,8 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("--stride", *stride, "Samples between window starts (1: every window)")
       ->capture_default_str()
       ->check(at_least(1));
-  cmd->add_option("--figures", *figures, "Directory for the data behind the figures (CSV)");
+  cmd->add_option("--figures", *figures, "Directory for the data behind the paper's figures, as CSV files (drawn by "
+                  "tofcomp diagnose --report)");
   cmd->add_option("--calibration-output", *calibration_out,
                   "Also write the calibration trained on the first part");
   cmd->callback([&common, &run, data, training, fraction, windows, stride, figures,

@@ -27,7 +27,8 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
   cmd->add_option("--stride", *stride, "Samples between window starts (1: every window)")
       ->capture_default_str()
       ->check(at_least(1));
-  cmd->add_option("--figures", *figures, "Directory for the data behind the figures (CSV)");
+  cmd->add_option("--figures", *figures, "Directory for the data behind the paper's figures, as CSV files (drawn by "
+                  "tofcomp diagnose --report)");
   cmd->callback([&common, &run, data, calibration, windows, stride, figures] {
     run = [&common, data, calibration, windows, stride, figures] {
       Progress progress("test", !common.quiet);

@@ -30,7 +30,6 @@ trap - EXIT
 echo "tofcompd stopped; its log: out/tofcompd.log"
 
 "$tofcomp" simulate "$root/config/scenarios/default.yaml" -o "$out/default.csv"
-"$tofcomp" train "$out/default.csv" --datasheet "$root/config/lms200-datasheet.yaml" \
-  -o "$out/calibration.yaml"
-"$tofcomp" evaluate "$out/default.csv" --datasheet "$root/config/lms200-datasheet.yaml" \
-  --figures "$out/figures" --calibration-output "$out/calibration-first-half.yaml"
+"$tofcomp" train "$out/default.csv" -o "$out/calibration.yaml"
+"$tofcomp" evaluate "$out/default.csv" --figures "$out/figures" \
+  --calibration-output "$out/calibration-first-half.yaml"

@@ -2,7 +2,7 @@
 # The defaults a user need not type, through the real binary: without --datasheet the thermal
 # fit starts from config/lms200-datasheet.yaml (the same result as naming that file; a different
 # datasheet gives a different start), and `simulate` without -o writes the CSV to stdout, the
-# same bytes as with -o FILE. Then one version: `tofcomp --version` and `tofcompd --version`
+# same bytes as with -o FILE; --figures' help says it writes CSV. Then one version: `tofcomp --version` and `tofcompd --version`
 # print the project(VERSION) of CMakeLists.txt.
 set -euo pipefail
 tofcomp=$1
@@ -42,6 +42,12 @@ assert abs(other["power_w"] - 15.0) < 1e-12, other
 PY
 "$tofcomp" thermal-fit --help | grep -q "config/lms200-datasheet.yaml" ||
   fail "--help does not name the default datasheet"
+
+# --figures says what it writes: figure data as CSV, drawn by diagnose --report.
+for command in evaluate test; do
+  "$tofcomp" "$command" --help | grep -q -- "--figures.*as CSV files (drawn by tofcomp diagnose --report)" ||
+    fail "$command --help does not say --figures writes CSV"
+done
 
 # One version, from project(VERSION).
 version=$(sed -n 's/^project(tofcomp VERSION \([0-9.]*\) .*/\1/p' "$root/CMakeLists.txt")
