@@ -19,6 +19,7 @@ struct CommonOptions {
 struct CommandResult {
   nlohmann::json json;
   std::string text;
+  bool streamed = false;  // printed as it went (query subscribe): main prints nothing more
 };
 
 using CommandRunner = std::function<CommandResult()>;

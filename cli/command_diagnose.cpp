@@ -3,13 +3,14 @@
 // (calibration/model_search.hpp), keeps terms past a family-wise false-alarm level, and reports
 // the held-out error of d̂ before and after against the Cramér–Rao bound; the residual tests
 // (core/residual_diagnosis.hpp) follow as evidence.
-#include <fmt/format.h>
 
 #include "calibration/diagnosis.hpp"
 #include "calibration/junction_estimate.hpp"
 #include "calibration/model_search.hpp"
 #include "cli/command.hpp"
 #include "cli/findings_format.hpp"
+#include "cli/kept_terms_note.hpp"
+#include "cli/number_checks.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_options.hpp"
 #include "cli/search_format.hpp"
@@ -69,17 +70,17 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       ->capture_default_str();
   cmd->add_option("--stride", s->stride, "Ranges between held-out windows")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   cmd->add_option("--alpha", s->alpha,
                   "Family-wise false-alarm level: data with nothing missing keep a term with at "
                   "most this probability")
       ->capture_default_str()
-      ->check(CLI::Range(1e-9, 0.5));
+      ->check(between(1e-9, 0.5));
   cmd->add_option("--max-steps", s->max_steps, "Terms added at most (forward selection)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 10));
+      ->check(between(1, 10));
   cmd->add_option("--threads", s->threads, "Candidates fitted at once (default: one per core)")
-      ->check(CLI::Range(1, 256));
+      ->check(between(1, 256));
   cmd->add_option("--calibration-output", s->calibration_output,
                   "Write the calibration with the kept terms (for tofcomp test, replay and "
                   "tofcompd)");
@@ -113,17 +114,10 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       result.text = search_text(search, options);
       result.text += "\nevidence: the residual tests of the trained model\n";
       result.text += diagnosis_text(tests);
-      if (!search.kept.empty()) {
-        if (s->calibration_output.empty()) {
-          result.text +=
-              "the calibration with the kept terms is not written: --calibration-output C.yaml "
-              "writes it\n";
-        } else {
-          io::write_calibration_file(s->calibration_output, search.calibration);
-          result.text += fmt::format("calibration with the kept terms written to {}\n",
-                                     s->calibration_output);
-        }
+      if (!search.kept.empty() && !s->calibration_output.empty()) {
+        io::write_calibration_file(s->calibration_output, search.calibration);
       }
+      result.text += kept_terms_note(!search.kept.empty(), s->calibration_output);
       report->write_if_requested(measured, training->settings(), result.json, base.calibration,
                                  search, tests, options.windows, !common.quiet);
       return result;

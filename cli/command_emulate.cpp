@@ -7,6 +7,7 @@
 #include <ctime>
 
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "io/measured_data_csv.hpp"
 #include "sim/lms200/emulator.hpp"
 #include "sim/scenario_yaml.hpp"
@@ -119,14 +120,14 @@ void register_emulate(CLI::App& app, const CommonOptions& common, CommandRunner&
                   "Also publish the device at this path (a symlink, kept across hang-ups)");
   cmd->add_option("--time-scale", o->time_scale,
                   "Twin seconds per wall second (1: real time; 0: as fast as the host reads)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(at_least(0));
   cmd->add_option("--faults", o->fault_rate,
                   "Faults per telegram, split evenly over garbage, dropped bytes, corrupted "
                   "CRCs, stalls, hang-ups and resets (0.01: one in a hundred)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(between(0, 1));
   cmd->add_option("--fault-seed", o->fault_seed, "Seed of the fault draws");
   cmd->add_option("--duration", o->duration_s, "Stop after this many wall seconds (0: never)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(at_least(0));
   cmd->add_flag("--rs232", o->rs232, "An RS-232 unit: refuses 500 kBd");
   cmd->callback([&common, &run, o] { run = [&common, o] { return emulate(*o, common); }; });
 }

@@ -1,10 +1,11 @@
-// tofcomp evaluate DATA --datasheet D.yaml: the whole of §8 in one command. Train on the first
+// tofcomp evaluate DATA [--datasheet D.yaml]: the whole of §8 in one command. Train on the first
 // part of the record (whole power cycles), test on the rest; print the thermal fit on the
 // held-out cycles and the table of errors, raw against compensated, per window length.
 #include <fmt/format.h>
 
 #include "cli/command.hpp"
 #include "cli/figure_data.hpp"
+#include "cli/number_checks.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
 #include "cli/shared_options.hpp"
@@ -27,12 +28,13 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("--train-fraction", *fraction,
                   "Share of the record used for training; it ends at the nearest power-on")
       ->capture_default_str()
-      ->check(CLI::Range(0.05, 0.95));
+      ->check(between(0.05, 0.95));
   cmd->add_option("--windows", *windows, "Window lengths, comma separated")->capture_default_str();
   cmd->add_option("--stride", *stride, "Samples between window starts (1: every window)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--figures", *figures, "Directory for the data behind the figures (CSV)");
+      ->check(at_least(1));
+  cmd->add_option("--figures", *figures, "Directory for the data behind the paper's figures, as CSV files (drawn by "
+                  "tofcomp diagnose --report)");
   cmd->add_option("--calibration-output", *calibration_out,
                   "Also write the calibration trained on the first part");
   cmd->callback([&common, &run, data, training, fraction, windows, stride, figures,

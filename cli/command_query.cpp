@@ -1,6 +1,7 @@
 // tofcomp query: asks a running tofcompd over its Unix socket (docs/protocol.md) for the latest
-// scan, its status or statistics, a reload or a recalibration, or a number of scans of a
-// subscription; prints them as text (a table of beams) or, with --json, as the daemon sent them.
+// scan, its status or statistics, a reload or a recalibration, or the scans of a subscription
+// (a number of them, or until interrupted); prints them as text (a table of beams) or, with
+// --json, as the daemon sent them (a subscription's scans one JSON object per line).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,7 +11,9 @@
 
 #include "cli/beam_range_option.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "cli/scan_text.hpp"
+#include "cli/stream_output.hpp"
 #include "core/error.hpp"
 #include "ipc/socket/client.hpp"
 #include "ipc/socket/protocol_error.hpp"
@@ -24,12 +27,15 @@ namespace {
 namespace ipcs = tofcomp::ipc::socket;
 using nlohmann::json;
 
+// subscribe without -n: print scans until interrupted.
+constexpr int kUntilStopped = 0;
+
 struct QueryOptions {
   std::string socket = ipcs::kDefaultSocketPath;
   double timeout_s = 5.0;
   std::string beams;  // FIRST:LAST, or one index
   std::string args;   // recalibrate: a JSON object
-  int count = 10;     // subscribe: scans to print
+  int count = kUntilStopped;  // subscribe: scans to print
   unsigned every = 1;
 };
 
@@ -115,23 +121,25 @@ CommandResult run_subscribe(const QueryOptions& o, const CommonOptions& common) 
     throw core::Error("tofcompd at " + o.socket + " answered " +
                       std::string(ipcs::to_string(e.code())) + ": " + e.what());
   }
-  CommandResult result;
-  result.json["scans"] = json::array();
-  for (int i = 0; i < o.count; ++i) {
+  const bool until_stopped = o.count == kUntilStopped;
+  end_stream_on_interrupt();
+  // Each scan is printed as it arrives: text, or with --json one scan object per line.
+  for (int printed = 0; until_stopped || printed < o.count;) {
     auto scan = subscription->next(timeout);
     if (!scan) {
+      if (until_stopped) continue;  // a quiet daemon: keep waiting, as gpspipe does
       throw core::Error("no scan from tofcompd at " + o.socket + " within " +
-                        std::to_string(o.timeout_s) + " s after " + std::to_string(i) + " of " +
-                        std::to_string(o.count));
+                        std::to_string(o.timeout_s) + " s after " + std::to_string(printed) +
+                        " of " + std::to_string(o.count));
     }
-    if (common.json) {
-      result.json["scans"].push_back(std::move(*scan));
-    } else {
-      // Text is printed as each scan arrives.
-      std::fputs((scan_text(*scan) + "\n").c_str(), stdout);
-      std::fflush(stdout);
-    }
+    const std::string line =
+        common.json ? scan->dump(-1, ' ', false, json::error_handler_t::replace) + "\n"
+                    : scan_text(*scan) + "\n";
+    if (!write_stream_line(line)) break;  // the reader went away
+    ++printed;
   }
+  CommandResult result;
+  result.streamed = true;
   return result;
 }
 
@@ -145,7 +153,7 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
   auto o = std::make_shared<QueryOptions>();
   cmd->add_option("--socket", o->socket, "tofcompd's socket")->capture_default_str();
   cmd->add_option("--timeout", o->timeout_s, "Seconds to wait to connect and for each answer")
-      ->check(CLI::PositiveNumber)
+      ->check(greater_than(0))
       ->capture_default_str();
   cmd->require_subcommand(1);
 
@@ -167,11 +175,12 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
   recalibrate->callback([&run, o] { run = [o] { return run_simple(*o, "recalibrate"); }; });
 
   auto* subscribe = cmd->add_subcommand("subscribe", "Print scans as the daemon publishes them");
-  subscribe->add_option("-n,--count", o->count, "Scans to print")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  subscribe->add_option("-n,--count", o->count,
+                        "Scans to print, then disconnect; without it, print scans until "
+                        "interrupted (Ctrl-C) or the reader of the output goes away")
+      ->check(at_least(1));
   subscribe->add_option("--every", o->every, "Only scans whose sequence is a multiple of this")
-      ->check(CLI::Range(1u, ipcs::kMaxEvery))
+      ->check(between(1, ipcs::kMaxEvery))
       ->capture_default_str();
   subscribe->add_option("--beams", o->beams, "Beams FIRST:LAST (indices), or one index");
   subscribe->callback(

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "core/error.hpp"
 #include "hal/lms2xx/host_driver.hpp"
 
@@ -118,10 +119,10 @@ void register_scan(CLI::App& app, const CommonOptions& common, CommandRunner& ru
   cmd->add_option("--units", o->units, "Range units: mm (8 m mode) or cm (80 m)")
       ->capture_default_str();
   cmd->add_option("-n,--count", o->count, "Scans to print")
-      ->check(CLI::PositiveNumber)
+      ->check(at_least(1))
       ->capture_default_str();
   cmd->add_option("--timeout", o->timeout_s, "Give up after this many seconds")
-      ->check(CLI::PositiveNumber)
+      ->check(greater_than(0))
       ->capture_default_str();
   cmd->callback([&common, &run, o] { run = [&common, o] { return scan(*o, common); }; });
 }

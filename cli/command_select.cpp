@@ -1,4 +1,4 @@
-// tofcomp select DATA --datasheet D.yaml: Algorithm 2 over candidate bases (§7): GLR against
+// tofcomp select DATA [--datasheet D.yaml]: Algorithm 2 over candidate bases (§7): GLR against
 // the single-Gaussian null, Eq. 25 and 29 as printed, BIC and held-out likelihood.
 #include <fmt/format.h>
 

@@ -13,6 +13,7 @@
 
 #include "cli/beam_range_option.hpp"
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "cli/scan_text.hpp"
 #include "core/error.hpp"
 #include "ipc/ring/ring_reader.hpp"
@@ -241,7 +242,7 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
                   "tofcompd; a ring of anyone else is refused");
   cmd->add_option("-n,--count", o->count,
                   "Scans to print: without --follow the newest N still in the ring")
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   cmd->add_option("--beams", o->beams,
                   "Only beams FIRST:LAST (indices from 0, inclusive), or one index")
       ->check(

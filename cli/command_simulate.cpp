@@ -1,4 +1,9 @@
-// tofcomp simulate SCENARIO -o DATA.csv: plays a twin scenario and writes the measured data.
+// tofcomp simulate SCENARIO [-o DATA.csv]: plays a twin scenario and writes the measured data,
+// to the file or, without -o, to stdout (its summary then goes to stderr).
+#include <cstdio>
+#include <iostream>
+
+#include "core/error.hpp"
 #include "cli/command.hpp"
 #include "cli/progress.hpp"
 #include "sim/scenario_yaml.hpp"
@@ -16,13 +21,22 @@ void register_simulate(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("scenario", *scenario, "Scenario YAML file")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", *output, "CSV file to write")->required();
+  cmd->add_option("-o,--output", *output, "CSV file to write (default: stdout)");
   cmd->callback([&common, &run, scenario, output] {
     run = [&common, scenario, output] {
+      const bool to_stdout = output->empty();
+      if (to_stdout && common.json) {
+        throw core::InvalidInput("--json needs -o FILE: without it the CSV goes to stdout");
+      }
       const sim::Scenario s = sim::load_scenario_file(*scenario);
       Progress progress("simulate " + s.name, !common.quiet);
       const sim::TwinSeries series = sim::simulate_series(s, [&](double f) { progress.update(f); });
-      sim::write_twin_measured_data(*output, s, series);
+      if (to_stdout) {
+        sim::write_twin_measured_data(std::cout, s, series);
+        std::cout.flush();
+      } else {
+        sim::write_twin_measured_data(*output, s, series);
+      }
       progress.done(std::to_string(series.ranges.size()) + " ranges");
       double lo = 1e300, hi = -1e300;
       for (const auto& r : series.ranges) {
@@ -31,7 +45,7 @@ void register_simulate(CLI::App& app, const CommonOptions& common, CommandRunner
       }
       CommandResult result;
       result.json = {{"scenario", s.name},
-                     {"output", *output},
+                     {"output", to_stdout ? "-" : *output},
                      {"ranges", series.ranges.size()},
                      {"temperature_readings", series.temperatures.size()},
                      {"power_changes", series.power_changes.size()},
@@ -45,9 +59,14 @@ void register_simulate(CLI::App& app, const CommonOptions& common, CommandRunner
       std::snprintf(text, sizeof text,
                     "wrote %s: %zu ranges, %zu case readings, %zu power changes over %.0f s "
                     "(junction %.2f-%.2f °C; %d no-echo readings not recorded)\n",
-                    output->c_str(), series.ranges.size(), series.temperatures.size(),
+                    to_stdout ? "stdout" : output->c_str(), series.ranges.size(), series.temperatures.size(),
                     series.power_changes.size(), s.duration_s(), lo, hi, series.no_echo_count);
       result.text = text;
+      if (to_stdout) {
+        // stdout holds the CSV: the summary goes with the progress.
+        if (!common.quiet) std::fputs(text, stderr);
+        result.streamed = true;
+      }
       return result;
     };
   });

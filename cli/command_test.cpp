@@ -1,6 +1,7 @@
 // tofcomp test DATA --calibration C.yaml: estimate d on windows with a trained calibration
 // (§6, §8.4) and, where the data carry the true distance, the three estimators' errors.
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 
 #include "cli/figure_data.hpp"
 #include "cli/progress.hpp"
@@ -25,8 +26,9 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
   cmd->add_option("--windows", *windows, "Window lengths, comma separated")->capture_default_str();
   cmd->add_option("--stride", *stride, "Samples between window starts (1: every window)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--figures", *figures, "Directory for the data behind the figures (CSV)");
+      ->check(at_least(1));
+  cmd->add_option("--figures", *figures, "Directory for the data behind the paper's figures, as CSV files (drawn by "
+                  "tofcomp diagnose --report)");
   cmd->callback([&common, &run, data, calibration, windows, stride, figures] {
     run = [&common, data, calibration, windows, stride, figures] {
       Progress progress("test", !common.quiet);

@@ -2,6 +2,7 @@
 // prior (or the paper's prediction-error fit with --free) on the training cycles, and the fit of
 // Eq. 26 (and NRMSE) on the held-out cycles (§3.2, §8.1).
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
 #include "cli/shared_options.hpp"
@@ -20,7 +21,7 @@ void register_thermal_fit(CLI::App& app, const CommonOptions& common, CommandRun
   cmd->add_option("--train-fraction", *fraction,
                   "Share of the record used for training; it ends at the nearest power-on")
       ->capture_default_str()
-      ->check(CLI::Range(0.05, 0.95));
+      ->check(between(0.05, 0.95));
   cmd->callback([&common, &run, data, thermal, fraction] {
     run = [&common, data, thermal, fraction] {
       Progress progress("thermal-fit", !common.quiet);

@@ -1,4 +1,4 @@
-// tofcomp train DATA --datasheet D.yaml -o CALIBRATION.yaml: thermal identification, the
+// tofcomp train DATA [--datasheet D.yaml] -o CALIBRATION.yaml: thermal identification, the
 // Kalman-smoothed junction temperature and EM training (§3, §5) into a calibration file.
 #include "cli/command.hpp"
 #include "cli/progress.hpp"

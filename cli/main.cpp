@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <string>
 
 #include "cli/command.hpp"
+#include "cli/unknown_argument_hint.hpp"
 #include "core/error.hpp"
 #include "io/version.hpp"
 
@@ -15,7 +17,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "tofcomp: temperature and mode-hopping compensation for time-of-flight LiDARs "
       "(Alhashimi et al., Sensors 2015)"};
-  app.set_version_flag("--version", tofcomp::io::kVersion);
+  app.set_version_flag("--version", std::string("tofcomp ") + tofcomp::io::kVersion);
   app.require_subcommand(1);
   app.fallthrough();  // --json and --quiet also after the subcommand
   CommonOptions common;
@@ -39,13 +41,17 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;
+    const int status = app.exit(e);
+    std::fputs(unknown_argument_hint(app).c_str(), stderr);
+    return status == 0 ? 0 : 2;
   }
 
   const std::string name = app.get_subcommands().front()->get_name();
   try {
     const CommandResult result = run();
-    if (common.json) {
+    if (result.streamed) {
+      // already on stdout
+    } else if (common.json) {
       std::cout << result.json.dump(2) << "\n";
     } else {
       std::cout << result.text;

@@ -6,6 +6,7 @@
 
 #include "calibration/measured_data_reader.hpp"
 #include "cli/bundled_datasheet.hpp"
+#include "cli/number_checks.hpp"
 #include "core/error.hpp"
 #include "io/datasheet_file.hpp"
 
@@ -79,14 +80,14 @@ std::optional<core::ThermalNoise> ThermalOptions::kalman_noise() const {
 std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd) {
   auto o = std::make_shared<ThermalOptions>();
   cmd.add_option("--datasheet", o->datasheet,
-                 "Algorithm 1 inputs (YAML, e.g. config/lms200-datasheet.yaml): the start of "
-                 "the thermal fit and its prior; default: the bundled LMS 200 values")
+                 "Algorithm 1 inputs (YAML): the start of the thermal fit and its prior; "
+                 "default: the LMS 200's, config/lms200-datasheet.yaml as built into tofcomp")
       ->check(CLI::ExistingFile);
   cmd.add_option("--prior-factor", o->prior_factor,
                  "The datasheet prior's spread: each thermal parameter within this factor of "
                  "Algorithm 1's value at one standard deviation")
       ->capture_default_str()
-      ->check(CLI::Range(1.0001, 1e6));
+      ->check(between(1.0001, 1e6));
   o->free_option =
       cmd.add_option("--free", o->free,
                      "Fit only these thermal parameters, of r1,r2,c1,c2,p, by the paper's "
@@ -149,7 +150,7 @@ std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd) {
                "Start from Eq. 20 (two modes only: --modes defaults to 2 with it)");
   cmd.add_option("--max-iterations", o->max_iterations, "EM iteration cap")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(at_least(1));
   return o;
 }
 

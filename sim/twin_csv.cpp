@@ -9,8 +9,9 @@
 
 namespace tofcomp::sim {
 
-void write_twin_measured_data(const std::string& file, const Scenario& scenario,
-                              const TwinSeries& series) {
+namespace {
+
+io::MeasurementTable twin_table(const Scenario& scenario, const TwinSeries& series) {
   io::MeasurementTableBuilder table;
   table.add_metadata("source", "tofcomp digital twin");
   table.add_metadata("scenario", scenario.name);
@@ -48,7 +49,19 @@ void write_twin_measured_data(const std::string& file, const Scenario& scenario,
     }
     table.append(row);
   }
-  io::write_measured_data_file(file, table.finish());
+  return table.finish();
+}
+
+}  // namespace
+
+void write_twin_measured_data(const std::string& file, const Scenario& scenario,
+                              const TwinSeries& series) {
+  io::write_measured_data_file(file, twin_table(scenario, series));
+}
+
+void write_twin_measured_data(std::ostream& out, const Scenario& scenario,
+                              const TwinSeries& series) {
+  io::write_measured_data(out, twin_table(scenario, series), "stdout");
 }
 
 }  // namespace tofcomp::sim

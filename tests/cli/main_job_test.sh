@@ -13,8 +13,7 @@ trap 'rm -rf "$work"' EXIT
 "$tofcomp" train --help | grep -q -- "--basis"
 
 "$tofcomp" -q simulate "$root/config/scenarios/default.yaml" -o "$work/d.csv"
-"$tofcomp" -q evaluate "$work/d.csv" --datasheet "$root/config/lms200-datasheet.yaml" \
-  --stride 10 --json > "$work/e.json"
+"$tofcomp" -q evaluate "$work/d.csv" --stride 10 --json > "$work/e.json"
 python3 - "$work/e.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -29,7 +28,7 @@ print("evaluate claims hold")
 PY
 
 # Train, then test with the calibration: the same table shape, exit 0.
-"$tofcomp" -q train "$work/d.csv" --datasheet "$root/config/lms200-datasheet.yaml" -o "$work/c.yaml"
+"$tofcomp" -q train "$work/d.csv" -o "$work/c.yaml"
 "$tofcomp" -q test "$work/d.csv" --calibration "$work/c.yaml" --windows 400 --stride 50 --json \
   | python3 -c 'import json,sys; w=json.load(sys.stdin)["windows"][0]; assert w["window"]==400 and w["em"]["mean_absolute_error_mm"] < 0.5, w'
 

@@ -2,7 +2,7 @@
 # `cmake --install` with the prefix the unit expects (/usr) into a staging directory: the
 # programs, the configuration, the unit, the sysusers file, the docs and the report renderer
 # land where a Debian system looks for them, the installed daemon accepts its installed
-# configuration, and the installed tofcomp finds its renderer.
+# configuration, and the installed tofcomp finds its renderer and needs no datasheet file.
 set -euo pipefail
 build=$1
 stage=$(mktemp -d)
@@ -34,5 +34,12 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 "$stage/usr/bin/tofcomp" -q diagnose "$stage/short.csv" \
   --datasheet "$stage/etc/tofcompd/lms200-datasheet.yaml" --report "$stage/report" > /dev/null
 grep -q 'src="figures/fig19_absolute_error_moments.png"' "$stage/report/index.html"
+# The installed tofcomp needs no datasheet file: without --datasheet it fits as from the
+# installed copy of config/lms200-datasheet.yaml.
+"$stage/usr/bin/tofcomp" -q thermal-fit "$stage/short.csv" --json > "$stage/fit-default.json"
+"$stage/usr/bin/tofcomp" -q thermal-fit "$stage/short.csv" --json \
+  --datasheet "$stage/etc/tofcompd/lms200-datasheet.yaml" > "$stage/fit-named.json"
+cmp -s "$stage/fit-default.json" "$stage/fit-named.json" ||
+  { echo "installed tofcomp's default datasheet is not lms200-datasheet.yaml"; exit 1; }
 test -s "$stage/report/figures/fig03_histogram.png"
 echo "install layout holds"

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# What a user who mistypes meets, through the real binary: a number out of bounds is refused with
+# its bound in a few words (not CLI11's "not in range 0.000000 to 1797693…"), and a mistyped
+# subcommand or option gets a "did you mean" naming the right one. Exit status 2 for both.
+set -euo pipefail
+tofcomp=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+# refused ARGS... EXPECTED: tofcomp ARGS must exit 2 with EXPECTED on stderr.
+refused() {
+  local expected=${*: -1}
+  set +e
+  "$tofcomp" "${@:1:$#-1}" > /dev/null 2> "$work/err"
+  local status=$?
+  set -e
+  [ "$status" = 2 ] || fail "tofcomp ${*:1:$#-1}: status $status, not 2"
+  grep -qF -- "$expected" "$work/err" || fail "tofcomp ${*:1:$#-1}: no '$expected' in: $(cat "$work/err")"
+  if grep -q "not in range\|179769" "$work/err"; then fail "CLI11's range message: $(cat "$work/err")"; fi
+}
+
+refused query subscribe -n 0 "--count: must be at least 1, not 0"
+refused query subscribe --every 0 "--every: must be between 1 and 1000000, not 0"
+refused query --timeout 0 status "--timeout: must be greater than 0, not 0"
+refused query --timeout soon status "--timeout: 'soon' is not a number"
+refused shm-dump -n 0 "--count: must be at least 1, not 0"
+touch "$work/scenario.yaml"
+refused emulate "$work/scenario.yaml" --time-scale -1 "--time-scale: must be at least 0, not -1"
+
+refused evalute "tofcomp: 'evalute' is not a subcommand; did you mean 'evaluate'?"
+refused query subscibe "tofcomp query: 'subscibe' is not a subcommand; did you mean 'subscribe'?"
+refused query subscribe --evry 5 \
+  "tofcomp query subscribe: '--evry' is not an option; did you mean '--every'?"
+refused query subscribe --jsn "tofcomp query subscribe: '--jsn' is not an option; did you mean '--json'?"
+echo "argument errors: all checks hold"
