@@ -5,11 +5,10 @@
 
 #include "io/measured_data_csv.hpp"
 #include "io/measurement_cells.hpp"
+#include "io/measurement_rules.hpp"
 
 namespace tofcomp::io {
 namespace {
-
-constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
 
 // Splits at every comma into `cells`, reusing its storage.
 void split_cells(std::string_view line, std::vector<std::string_view>& cells) {
@@ -88,7 +87,9 @@ class MeasurementCsvReader {
   // One line of the file, without its line end.
   void take_line(std::string_view line, long number) {
     const MeasurementPlace at{source_, number};
-    if (number == 1 && line.starts_with(kByteOrderMark)) line.remove_prefix(kByteOrderMark.size());
+    if (number == 1 && line.starts_with(kUtf8ByteOrderMark)) {
+      line.remove_prefix(kUtf8ByteOrderMark.size());
+    }
     if (line.find('\r') != std::string_view::npos) {
       at.fail("", "a carriage return inside a line (line ends are \\n or \\r\\n)");
     }

@@ -86,11 +86,14 @@ void check_column_names(const std::vector<std::string>& columns, const Measureme
   for (std::size_t c = 0; c < columns.size(); ++c) {
     const std::string& name = columns[c];
     if (name.empty()) at.fail("", "column " + std::to_string(c + 1) + " of the header has no name");
+    // The first name is written at the start of a file without metadata, where a leading '#'
+    // would read back as metadata and a byte-order mark would be skipped.
     if (has_surrounding_blanks(name) || has_line_break(name) ||
-        name.find(',') != std::string::npos || (c == 0 && name.front() == '#')) {
+        name.find(',') != std::string::npos ||
+        (c == 0 && (name.front() == '#' || name.starts_with(kUtf8ByteOrderMark)))) {
       at.fail(name,
               "a column name must hold no blanks around it, no comma, no "
-              "line break, and the first must not start with '#'");
+              "line break, and the first must not start with '#' or a byte-order mark");
     }
     if (!seen.insert(name).second) at.fail(name, "the column is named twice in the header");
   }

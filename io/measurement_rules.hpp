@@ -13,6 +13,9 @@
 
 namespace tofcomp::io {
 
+// The UTF-8 byte-order mark a file may start with (a spreadsheet's export); the reader skips it.
+inline constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+
 // What a row must satisfy given the rows before it: time_s finite and never decreasing (ties
 // allowed), every number finite, range_mm within what an LMS 200 reports (0 to 81910 mm) and
 // true_range_mm a distance it measures (more than 0, at most 81910 mm; core/lms200_limits.hpp),

@@ -187,6 +187,21 @@ TEST(MeasuredDataCsvRead, ByteOrderMarkIsSkipped) {
   EXPECT_TRUE(t.warnings.empty());
 }
 
+// A first column name that starts with a second mark (or the first, after a blank line) would
+// be written at the start of a file and read back without it: refused where it stands (found by
+// the measured-data fuzzer).
+TEST(MeasuredDataCsvRead, AByteOrderMarkStartingTheFirstColumnNameIsRefused) {
+  for (const std::string& text : {std::string("\xEF\xBB\xBF\xEF\xBB\xBFtime_s,range_mm\n0,1\n"),
+                                 std::string("\n\xEF\xBB\xBFtime_s,range_mm\n0,1\n")}) {
+    try {
+      parse(text);
+      ADD_FAILURE() << "accepted";
+    } catch (const MeasuredDataFileError& e) {
+      EXPECT_NE(std::string(e.what()).find("byte-order mark"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(MeasuredDataCsvRead, UnknownColumnsOneWarningAndKeptOnRewrite) {
   const std::string text =
       "# sensor: LMS200\n"
