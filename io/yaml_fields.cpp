@@ -106,12 +106,8 @@ namespace {
 // No file of the project's YAML (calibration, datasheet, scenario) comes near it.
 constexpr std::uint64_t kMaxYamlFileBytes = 16u << 20;
 
-std::string position(const std::string& source, const YAML::Mark& mark) {
-  return yaml_position(source, mark);
-}
-
 [[noreturn]] void syntax_error(const std::string& source, const YAML::ParserException& e) {
-  throw YamlSchemaError(position(source, e.mark) + ": YAML syntax error: " + e.msg);
+  throw YamlSchemaError(yaml_position(source, e.mark) + ": YAML syntax error: " + e.msg);
 }
 
 // Takes the parser's events without building anything; remembers where a document starts.
@@ -143,8 +139,8 @@ class ShapeCheck {
 
   void check(const YAML::Node& node, const std::string& path, int depth) {
     if (depth > limits_.max_depth) {
-      throw YamlSchemaError(position(source_, node.Mark()) + ": " + path + " nests deeper than " +
-                            std::to_string(limits_.max_depth) + " levels");
+      throw YamlSchemaError(yaml_position(source_, node.Mark()) + ": " + path +
+                            " nests deeper than " + std::to_string(limits_.max_depth) + " levels");
     }
     if (++values_ > limits_.max_values) {
       throw YamlSchemaError(source_ + ": holds more than " + std::to_string(limits_.max_values) +
@@ -154,14 +150,14 @@ class ShapeCheck {
       std::set<std::string> seen;
       for (const auto& entry : node) {
         if (!entry.first.IsScalar()) {
-          throw YamlSchemaError(position(source_, entry.first.Mark()) + ": " +
+          throw YamlSchemaError(yaml_position(source_, entry.first.Mark()) + ": " +
                                 (path.empty() ? std::string("the document") : path) +
                                 " has a key that is not plain text");
         }
         const std::string& key = entry.first.Scalar();
         const std::string child = path.empty() ? key : path + "." + key;
         if (!seen.insert(key).second) {
-          throw YamlSchemaError(position(source_, entry.first.Mark()) + ": " + child +
+          throw YamlSchemaError(yaml_position(source_, entry.first.Mark()) + ": " + child +
                                 " is given twice");
         }
         check(entry.second, child, depth + 1);
@@ -213,7 +209,7 @@ YAML::Node load_yaml_file(const std::string& file) {
 YAML::Node load_yaml_text(const std::string& text, const std::string& source,
                           const YamlShapeLimits& limits) {
   if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {
-    throw YamlSchemaError(position(source, mark_at(text, nul)) +
+    throw YamlSchemaError(yaml_position(source, mark_at(text, nul)) +
                           ": a NUL byte: a YAML file is text, and what follows a NUL would be "
                           "lost");
   }
@@ -224,7 +220,7 @@ YAML::Node load_yaml_text(const std::string& text, const std::string& source,
     DocumentStarts starts;
     if (parser.HandleNextDocument(starts) && parser.HandleNextDocument(starts)) {
       throw YamlSchemaError(
-          position(source, starts.last_start.value_or(YAML::Mark::null_mark())) +
+          yaml_position(source, starts.last_start.value_or(YAML::Mark::null_mark())) +
           ": YAML syntax error: text after the end of the document (a second document, or a "
           "line YAML cannot read)");
     }

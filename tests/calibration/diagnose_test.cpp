@@ -12,19 +12,12 @@
 #include "core/error.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
-#include "sim/twin_csv.hpp"
+#include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
 
 const std::string kRoot = TOFCOMP_SOURCE_ROOT;
-
-MeasuredData scenario_data(const sim::Scenario& scenario) {
-  const std::string file = ::testing::TempDir() + "/" + scenario.name + ".csv";
-  sim::write_twin_measured_data(file, scenario, sim::simulate_series(scenario));
-  std::vector<std::string> warnings;
-  return read_measured_data(file, 0, warnings);
-}
 
 // The paper's structure as §8 prints it (an order-4 polynomial, two modes, the LMS 200 filter
 // levels), fixed rather than chosen from the data: these tests judge the residual tests and the
@@ -48,7 +41,7 @@ core::Diagnosis diagnose_data(const MeasuredData& data) {
 core::Diagnosis diagnose_scenario(const std::string& name, std::uint64_t seed) {
   sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/" + name + ".yaml");
   scenario.seed = seed;
-  return diagnose_data(scenario_data(scenario));
+  return diagnose_data(test::twin_measured_data(scenario));
 }
 
 struct Case {
@@ -89,7 +82,7 @@ TEST(Diagnose, FalseAlarmsOnDataWithoutEffect) {
         kRoot + "/config/scenarios/" + (seed % 2 == 0 ? "default" : "effect-warm-up") + ".yaml");
     scenario.effects = {};
     scenario.seed = seed;
-    const MeasuredData data = scenario_data(scenario);
+    const MeasuredData data = test::twin_measured_data(scenario);
     const core::Diagnosis d = diagnose_data(data);
     if (!d.findings.empty() && d.findings.front().significant) ++alarms;
   }

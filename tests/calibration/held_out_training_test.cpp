@@ -15,7 +15,7 @@
 #include "io/calibration_file.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
-#include "sim/twin_csv.hpp"
+#include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -23,12 +23,8 @@ namespace {
 const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 
 MeasuredData twin_record(const std::string& scenario_name) {
-  const sim::Scenario scenario =
-      sim::load_scenario_file(kRoot + "/config/scenarios/" + scenario_name + ".yaml");
-  const std::string file = ::testing::TempDir() + "/" + scenario_name + "-held-out.csv";
-  sim::write_twin_measured_data(file, scenario, sim::simulate_series(scenario));
-  std::vector<std::string> warnings;
-  return read_measured_data(file, 0, warnings);
+  return test::twin_measured_data(
+      sim::load_scenario_file(kRoot + "/config/scenarios/" + scenario_name + ".yaml"));
 }
 
 // The daemon's settings: the defaults, and the datasheet it is configured with.

@@ -18,7 +18,7 @@
 #include "io/datasheet_file.hpp"
 #include "realtime/recording_replay.hpp"
 #include "sim/scenario_yaml.hpp"
-#include "sim/twin_csv.hpp"
+#include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -97,10 +97,7 @@ TEST_P(ReplayWithExtension, EstimatesCloserToTheTruth) {
   sim::Scenario scenario =
       sim::load_scenario_file(kRoot + "/config/scenarios/" + c.scenario + ".yaml");
   scenario.seed = 11;
-  const std::string file = ::testing::TempDir() + "/" + c.scenario + "-replay.csv";
-  sim::write_twin_measured_data(file, scenario, sim::simulate_series(scenario));
-  std::vector<std::string> warnings;
-  const MeasuredData data = read_measured_data(file, 0, warnings);
+  const MeasuredData data = test::twin_measured_data(scenario);
   TrainSettings settings;
   settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
   // Eq. 8 as printed, as the diagnosis tests judge the extensions (diagnose_test.cpp).

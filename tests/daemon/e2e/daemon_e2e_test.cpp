@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 
 #include "core/effect_grammar.hpp"
@@ -219,22 +220,32 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
 // publishing, writes the calibration atomically and swaps it in between two scans: the scans
 // go on without a gap, the later ones carry the new calibration's id, and the file written is
 // a complete calibration.
-TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
-  TemporaryDirectory dir;
+// In `dir`: the twin's record of `scenario` as the recording `data`, the shipped calibration as
+// calibration.yaml, and a configuration (returned) that recalibrates from that recording, its
+// ring named after `label`.
+std::filesystem::path write_recalibration_setup(const TemporaryDirectory& dir,
+                                                const std::string& scenario,
+                                                const std::filesystem::path& data,
+                                                const std::string& label) {
   const std::string root = TOFCOMP_SOURCE_ROOT;
-  const auto data = dir.path() / "bench.csv";
   const std::string simulate = std::string(TOFCOMP_BINARY) + " -q simulate " + root +
-                               "/config/scenarios/default.yaml -o " + data.string();
-  ASSERT_EQ(std::system(simulate.c_str()), 0);
+                               "/config/scenarios/" + scenario + ".yaml -o " + data.string();
+  if (std::system(simulate.c_str()) != 0) throw std::runtime_error("failed: " + simulate);
   std::filesystem::copy_file(root + "/config/calibration.yaml", dir.path() / "calibration.yaml");
-  const std::string shm = "/tofcomp-e2e-recal-" + std::to_string(::getpid());
+  const std::string shm = "/tofcomp-e2e-" + label + "-" + std::to_string(::getpid());
   const auto config = dir.path() / "tofcompd.yaml";
   write_file(config, config_text(dir.path(), shm, "calibration.yaml") +
                          "recalibration:\n"
                          "  source: recording\n"
-                         "  recording: {data: bench.csv}\n"
-                         "  datasheet: " +
-                         root + "/config/lms200-datasheet.yaml\n");
+                         "  recording: {data: " + data.filename().string() + "}\n"
+                         "  datasheet: " + root + "/config/lms200-datasheet.yaml\n");
+  return config;
+}
+
+TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
+  TemporaryDirectory dir;
+  const auto data = dir.path() / "bench.csv";
+  const auto config = write_recalibration_setup(dir, "default", data, "recal");
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
   ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
   ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
@@ -284,20 +295,8 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
 // recalibration's note says what the search kept.
 TEST(DaemonEndToEnd, RecalibrationCarriesWhatTheModelSearchKeeps) {
   TemporaryDirectory dir;
-  const std::string root = TOFCOMP_SOURCE_ROOT;
-  const auto data = dir.path() / "drift.csv";
-  const std::string simulate = std::string(TOFCOMP_BINARY) + " -q simulate " + root +
-                               "/config/scenarios/effect-time-drift.yaml -o " + data.string();
-  ASSERT_EQ(std::system(simulate.c_str()), 0);
-  std::filesystem::copy_file(root + "/config/calibration.yaml", dir.path() / "calibration.yaml");
-  const std::string shm = "/tofcomp-e2e-search-" + std::to_string(::getpid());
-  const auto config = dir.path() / "tofcompd.yaml";
-  write_file(config, config_text(dir.path(), shm, "calibration.yaml") +
-                         "recalibration:\n"
-                         "  source: recording\n"
-                         "  recording: {data: drift.csv}\n"
-                         "  datasheet: " +
-                         root + "/config/lms200-datasheet.yaml\n");
+  const auto config =
+      write_recalibration_setup(dir, "effect-time-drift", dir.path() / "drift.csv", "search");
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
   ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
   ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
