@@ -15,6 +15,7 @@
 #include "cli/scan_text.hpp"
 #include "cli/stream_output.hpp"
 #include "core/error.hpp"
+#include "ipc/instance_name.hpp"
 #include "ipc/socket/client.hpp"
 #include "ipc/socket/protocol_error.hpp"
 #include "ipc/socket/scan_json.hpp"
@@ -32,6 +33,7 @@ constexpr int kUntilStopped = 0;
 
 struct QueryOptions {
   std::string socket = ipcs::kDefaultSocketPath;
+  std::string instance;  // --instance: its socket replaces `socket`
   double timeout_s = 5.0;
   std::string beams;  // FIRST:LAST, or one index
   std::string args;   // recalibrate: a JSON object
@@ -151,7 +153,13 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
                          "Ask a running tofcompd over its socket: latest, status, stats, reload, "
                          "recalibrate, subscribe");
   auto o = std::make_shared<QueryOptions>();
-  cmd->add_option("--socket", o->socket, "tofcompd's socket")->capture_default_str();
+  auto* socket = cmd->add_option("--socket", o->socket, "tofcompd's socket")->capture_default_str();
+  cmd->add_option("-i,--instance", o->instance,
+                  "The socket of tofcompd instance NAME (tofcompd@NAME.service): "
+                  "/run/tofcompd/NAME/tofcompd.sock")
+      ->check([](const std::string& name) { return ipc::instance_name_problem(name); }, "NAME")
+      ->excludes(socket)
+      ->each([o](const std::string& name) { o->socket = ipc::instance_socket_path(name); });
   cmd->add_option("--timeout", o->timeout_s, "Seconds to wait to connect and for each answer")
       ->check(greater_than(0))
       ->capture_default_str();

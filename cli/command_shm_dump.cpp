@@ -18,6 +18,7 @@
 #include "core/error.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/socket/scan_json.hpp"
+#include "ipc/instance_name.hpp"
 #include "ipc/user_name.hpp"
 
 namespace tofcomp::cli {
@@ -28,6 +29,7 @@ namespace ring = tofcomp::ipc::ring;
 
 struct ShmDumpOptions {
   std::string name = ring::kDefaultRingName;
+  std::string instance;  // --instance: its ring replaces `name`
   bool follow = false;
   int count = 0;  // 0: the newest scan, or with --follow every scan until stopped
   std::string beams;
@@ -233,7 +235,13 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
       "Print the compensated scans tofcompd publishes to its shared-memory ring: the newest, "
       "or with --follow each new one");
   auto o = std::make_shared<ShmDumpOptions>();
-  cmd->add_option("name", o->name, "Name of the ring's shm object")->capture_default_str();
+  auto* name = cmd->add_option("name", o->name, "Name of the ring's shm object")->capture_default_str();
+  cmd->add_option("-i,--instance", o->instance,
+                  "The ring of tofcompd instance NAME (tofcompd@NAME.service): /tofcompd-NAME")
+      ->check([](const std::string& instance) { return ipc::instance_name_problem(instance); },
+              "NAME")
+      ->excludes(name)
+      ->each([o](const std::string& instance) { o->name = ipc::instance_ring_name(instance); });
   cmd->add_flag("-f,--follow", o->follow,
                 "Print each new scan until SIGINT/SIGTERM or -n scans (with --json: one "
                 "document at the end)");

@@ -2,11 +2,11 @@
 
 #include <cstdlib>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "cli/child_process.hpp"
 #include "core/error.hpp"
+#include "io/data_directory.hpp"
 
 namespace tofcomp::cli {
 namespace {
@@ -50,17 +50,11 @@ std::string python_with_matplotlib(const std::filesystem::path& script) {
 
 // The script beside the binary (see the header); throws naming where it looked.
 std::filesystem::path report_script_path() {
-  std::error_code error;
-  const std::filesystem::path binary = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error) {
-    throw core::Error("cannot find the report renderer: /proc/self/exe: " + error.message());
-  }
-  const std::filesystem::path script =
-      (binary.parent_path() / TOFCOMP_REPORT_SCRIPT_FROM_BINDIR).lexically_normal();
+  const std::filesystem::path script = io::data_directory() / "report" / "diagnosis_report.py";
   if (!std::filesystem::is_regular_file(script)) {
     throw core::Error("cannot find the report renderer " + script.string() +
-                      " (it is looked for beside the tofcomp binary " + binary.string() +
-                      "); build the tofcomp target again, or install with cmake --install");
+                      " (it is looked for in the data directory beside the tofcomp binary); "
+                      "build the tofcomp target again, or install with cmake --install");
   }
   return script;
 }

@@ -1,11 +1,10 @@
 // Running the report's renderer: cli/report/diagnosis_report.py, a Python 3 script that draws
 // the figures with matplotlib (Agg) and writes DIR/index.html from the data in DIR/data/.
 //
-// Where the script is: beside the binary, at <directory of tofcomp>/../share/tofcomp/report/
-// (the relative path is TOFCOMP_REPORT_SCRIPT_FROM_BINDIR, set by cli/CMakeLists.txt from
-// GNUInstallDirs). `cmake --install` puts it at PREFIX/share/tofcomp/report/ next to
-// PREFIX/bin/tofcomp; the build copies it to build/share/tofcomp/report/ next to
-// build/cli/tofcomp, so both find it the same way.
+// Where the script is: in the data directory beside the binary (io/data_directory.hpp),
+// <directory of tofcomp>/../share/tofcomp/report/. `cmake --install` puts it at
+// PREFIX/share/tofcomp/report/ next to PREFIX/bin/tofcomp; the build copies it to
+// build/share/tofcomp/report/ next to build/cli/tofcomp, so both find it the same way.
 //
 // Which Python: $TOFCOMP_PYTHON when set; otherwise `python3` on PATH, then /usr/bin/python3
 // (Debian's, where python3-matplotlib installs), the first that imports matplotlib and numpy.

@@ -5,9 +5,9 @@
 #include <sstream>
 
 #include "calibration/measured_data_reader.hpp"
-#include "cli/bundled_datasheet.hpp"
 #include "cli/number_checks.hpp"
 #include "core/error.hpp"
+#include "io/bundled_datasheet.hpp"
 #include "io/datasheet_file.hpp"
 
 namespace tofcomp::cli {
@@ -37,10 +37,7 @@ std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd) {
 
 calibration::ThermalFitSettings ThermalOptions::settings() const {
   calibration::ThermalFitSettings s;
-  s.datasheet =
-      datasheet.empty()
-          ? io::parse_datasheet(std::string(bundled_lms200_datasheet_text()), kBundledDatasheetName)
-          : io::read_datasheet_file(datasheet);
+  s.datasheet = io::datasheet_or_bundled(datasheet);
   s.ambient_fallback_c = ambient_c;
   s.method = free_option != nullptr && free_option->count() > 0
                  ? calibration::ThermalFitMethod::PredictionError

@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "io/calibration_file.hpp"
 #include "io/checked_file.hpp"
+#include "io/bundled_datasheet.hpp"
 #include "io/datasheet_file.hpp"
 #include "io/measured_data_csv.hpp"
 #include "settings/daemon_config_adapters.hpp"
@@ -72,9 +73,13 @@ std::string check_configuration(const settings::DaemonConfig& config) {
     }
   }
   if (recal.source != settings::RecalibrationSource::None) {
-    loads(config, "recalibration.datasheet", recal.datasheet,
-          [&] { io::read_datasheet_file(recal.datasheet.string()); });
-    note("datasheet " + recal.datasheet.string());
+    if (recal.datasheet.empty()) {
+      note(std::string("datasheet: ") + io::kBundledDatasheetName);
+    } else {
+      loads(config, "recalibration.datasheet", recal.datasheet,
+            [&] { io::read_datasheet_file(recal.datasheet.string()); });
+      note("datasheet " + recal.datasheet.string());
+    }
   }
   if (recal.source == settings::RecalibrationSource::Recording) {
     loads(config, "recalibration.recording.data", recal.data,

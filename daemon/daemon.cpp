@@ -18,8 +18,9 @@ using Clock = std::chrono::steady_clock;
 // events no scan waits for, a finished recalibration.
 constexpr std::chrono::milliseconds kHousekeepingPeriod{100};
 
-Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file)
-    : config_(std::move(config), std::move(config_file)),
+Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file,
+               settings::OutputOverrides overrides)
+    : config_(std::move(config), std::move(config_file), std::move(overrides)),
       recordings_([this](const std::string& why) { recalibration_.run_recording_failed(why); }),
       inputs_(config_.current(), clock_, recordings_),
       link_(io_, config_.current(), clock_,

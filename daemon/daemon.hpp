@@ -39,8 +39,10 @@ class Daemon {
  public:
   // config_file: where reloads read from; empty: the configuration is the built-in default and
   // a reload re-reads that. Throws core::Error (naming what) when a part cannot start: the
-  // calibration file, the ring, the socket, the emulator, the sensor backend.
-  Daemon(settings::DaemonConfig config, std::filesystem::path config_file);
+  // calibration file, the ring, the socket, the emulator, the sensor backend. `overrides`: the
+  // command line's socket and ring, already applied to `config` and applied again at reloads.
+  Daemon(settings::DaemonConfig config, std::filesystem::path config_file,
+         settings::OutputOverrides overrides = {});
   ~Daemon();
   Daemon(const Daemon&) = delete;
   Daemon& operator=(const Daemon&) = delete;

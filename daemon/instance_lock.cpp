@@ -18,12 +18,20 @@ namespace {
 constexpr mode_t kLockFileMode = 0644;
 constexpr std::size_t kPidTextBytes = 32;
 
+// The socket's path with the lock's extension; a socket whose name already ends so gets it added.
+std::filesystem::path lock_path(const std::filesystem::path& socket_path) {
+  std::filesystem::path lock = socket_path;
+  lock.replace_extension(kInstanceLockExtension);
+  if (lock == socket_path) lock += kInstanceLockExtension;
+  return lock;
+}
+
 }  // namespace
 
-InstanceLock::InstanceLock(const std::filesystem::path& runtime_directory)
-    : path_(runtime_directory / kInstanceLockName) {
+InstanceLock::InstanceLock(const std::filesystem::path& socket_path)
+    : path_(lock_path(socket_path)) {
   std::error_code ignored;  // a failure shows when the file cannot be opened, naming it
-  std::filesystem::create_directories(runtime_directory, ignored);
+  std::filesystem::create_directories(path_.parent_path(), ignored);
   fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, kLockFileMode);
   if (fd_ < 0) {
     throw core::Error("cannot open the lock file " + path_.string() + ": " + std::strerror(errno));
@@ -38,7 +46,7 @@ InstanceLock::InstanceLock(const std::filesystem::path& runtime_directory)
       const std::string holder = n > 0 ? std::string(text, static_cast<std::size_t>(n)) : "";
       throw core::Error("another tofcompd" +
                         (holder.empty() ? std::string() : " (pid " + holder + ")") +
-                        " runs with the runtime directory " + runtime_directory.string() +
+                        " runs with the socket " + socket_path.string() +
                         ": it holds " + path_.string() + "; not starting a second");
     }
     throw core::Error("cannot lock " + path_.string() + ": " + std::strerror(error));

@@ -1,7 +1,9 @@
 // tofcompd: the temperature and mode-hopping compensation service for an LMS 200.
-//   tofcompd [--config FILE] [--check-config] [--print-default-config]
+//   tofcompd [--config FILE] [--instance NAME] [--socket PATH] [--shm NAME] [--check-config]
+//            [--print-default-config]
 // Without --config it runs on the built-in default (config/tofcompd.yaml): an emulated LMS 200
-// and its simulated case sensor, with the bundled calibration. Exit status: 0 after a clean
+// and its simulated case sensor, with the bundled calibration. --instance, --socket and --shm
+// replace where it publishes (settings/output_overrides.hpp). Exit status: 0 after a clean
 // stop (SIGTERM, SIGINT), 1 when it cannot start (the message says why), 2 for a bad command
 // line.
 #include <spdlog/spdlog.h>
@@ -16,8 +18,10 @@
 #include "daemon/service/logging.hpp"
 #include "daemon/training_child.hpp"
 #include "io/version.hpp"
+#include "ipc/instance_name.hpp"
 #include "settings/daemon_config_yaml.hpp"
 #include "settings/embedded_default_config.hpp"
+#include "settings/output_overrides.hpp"
 
 int main(int argc, char** argv) {
   using namespace tofcomp::daemon;
@@ -25,12 +29,27 @@ int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == kTrainWorkerFlag) return training_child_main(argc, argv);
   CLI::App app("tofcompd: temperature and mode-hopping compensation of an LMS 200 (a service)");
   std::string config_file;
+  std::string instance;
+  std::string socket_path;
+  std::string shm_name;
   bool check_only = false;
   bool print_default = false;
   app.add_option("-c,--config", config_file,
                  "Configuration file (docs/configuration.md); default: the built-in one, "
                  "an emulated LMS 200")
       ->check(CLI::ExistingFile);
+  app.add_option("-i,--instance", instance,
+                 "Run as instance NAME: socket /run/tofcompd/NAME/tofcompd.sock, ring "
+                 "/tofcompd-NAME, log identity tofcompd@NAME (tofcompd@.service)")
+      ->check([](const std::string& name) { return tofcomp::ipc::instance_name_problem(name); },
+              "NAME");
+  app.add_option("--socket", socket_path,
+                 "Serve the Unix socket at PATH instead of outputs.socket.path (or the instance's)")
+      ->type_name("PATH");
+  app.add_option("--shm", shm_name,
+                 "Publish the ring under this shared-memory name (/NAME) instead of "
+                 "outputs.shm.name (or the instance's)")
+      ->type_name("NAME");
   app.add_flag("--check-config", check_only, "Read and check the configuration, then exit");
   app.add_flag("--print-default-config", print_default,
                "Print the built-in configuration (a starting point) and exit");
@@ -47,17 +66,22 @@ int main(int argc, char** argv) {
   }
   bool logging = false;  // until then errors go to stderr alone
   try {
-    const tofcomp::settings::DaemonConfig cfg =
+    const tofcomp::settings::OutputOverrides overrides =
+        tofcomp::settings::output_overrides(instance, socket_path, shm_name);
+    tofcomp::settings::DaemonConfig cfg =
         config_file.empty() ? tofcomp::settings::embedded_default_config()
                             : tofcomp::settings::load_daemon_config(config_file);
+    tofcomp::settings::apply_output_overrides(overrides, cfg);
     if (check_only) {
       std::printf("%s: %s\n", cfg.source.c_str(), check_configuration(cfg).c_str());
       return 0;
     }
-    service::configure_logging(cfg.log.target, cfg.log.level);
+    service::configure_logging(cfg.log.target, cfg.log.level,
+                               instance.empty() ? std::string(service::kDefaultLogIdentity)
+                                                : tofcomp::ipc::instance_log_identity(instance));
     logging = true;
     spdlog::info("tofcompd {} starting with {}", tofcomp::io::kVersion, cfg.source);
-    Daemon daemon(cfg, config_file);
+    Daemon daemon(cfg, config_file, overrides);
     return daemon.run();
   } catch (const tofcomp::core::Error& e) {
     if (logging) {

@@ -7,8 +7,9 @@
 
 namespace tofcomp::daemon {
 
-RunningConfig::RunningConfig(settings::DaemonConfig config, std::filesystem::path file)
-    : config_(std::move(config)), file_(std::move(file)) {}
+RunningConfig::RunningConfig(settings::DaemonConfig config, std::filesystem::path file,
+                             settings::OutputOverrides overrides)
+    : config_(std::move(config)), file_(std::move(file)), overrides_(std::move(overrides)) {}
 
 std::string RunningConfig::name() const {
   return file_.empty() ? "built-in default" : file_.string();
@@ -19,7 +20,10 @@ std::string RunningConfig::source() const {
 }
 
 settings::DaemonConfig RunningConfig::read() const {
-  return file_.empty() ? settings::embedded_default_config() : settings::load_daemon_config(file_);
+  settings::DaemonConfig config = file_.empty() ? settings::embedded_default_config()
+                                                : settings::load_daemon_config(file_);
+  settings::apply_output_overrides(overrides_, config);
+  return config;
 }
 
 void RunningConfig::apply(settings::DaemonConfig next) {

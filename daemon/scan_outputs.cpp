@@ -14,7 +14,7 @@ ScanOutputs::ScanOutputs(boost::asio::io_context& io, const settings::OutputsCon
                          socket::SocketRequestHandler& requests, ServiceStatus& service)
     : service_(service),
       socket_path_(config.socket.path.string()),
-      lock_(std::filesystem::absolute(config.socket.path).parent_path()) {
+      lock_(std::filesystem::absolute(config.socket.path)) {
   const auto& shm = config.shm;
   ring_ = std::make_unique<ipc::ring::RingWriter>(
       shm.name, static_cast<std::uint32_t>(shm.slots), ipc::ring::kDefaultMaxBeams,

@@ -20,7 +20,7 @@
 #include "calibration/held_out_training.hpp"
 #include "calibration/measured_data_reader.hpp"
 #include "io/calibration_file.hpp"
-#include "io/datasheet_file.hpp"
+#include "io/bundled_datasheet.hpp"
 #include "io/measured_data_csv.hpp"
 
 namespace tofcomp::daemon {
@@ -127,7 +127,8 @@ int training_child_main(int argc, char** argv) {
           io::parse_calibration_yaml(read_fd(kRunningCalibrationFd), "the running calibration");
     }
     calibration::TrainSettings settings;
-    settings.thermal.datasheet = io::read_datasheet_file(options["--datasheet"]);
+    // An empty --datasheet: recalibration.datasheet left out, the built-in LMS 200's.
+    settings.thermal.datasheet = io::datasheet_or_bundled(options["--datasheet"]);
     const calibration::ModelSearchOptions search;  // the defaults of tofcomp diagnose
     const calibration::HeldOutTraining trained = calibration::train_with_held_out(
         data, settings, running ? &*running : nullptr, model_search ? &search : nullptr);

@@ -169,7 +169,7 @@ struct RecalibrationLimits {
 struct RecalibrationConfig {
   RecalibrationSource source = RecalibrationSource::None;
   RecalibrationTrigger trigger = RecalibrationTrigger::OnRequest;
-  std::filesystem::path datasheet;  // Algorithm 1's datasheet values; required unless none
+  std::filesystem::path datasheet;  // Algorithm 1's datasheet values; empty: the built-in LMS 200's
   std::filesystem::path output;     // where the calibration is written; default calibration.file
   std::filesystem::path data;       // source recording: the interchange CSV to train on
   // source recording: the one directory a client's recalibrate may name a recording in (key

@@ -95,12 +95,9 @@ class Rules {
               "none");
       return;
     }
-    require(!recal.datasheet.empty(),
-            "recalibration.datasheet is missing (recalibration.source is " +
-                to_string(recal.source) + ")");
     require(!recal.output.empty(),
             "recalibration.output is missing: give it, or calibration.file for it to default to");
-    require(recal.output != recal.datasheet,
+    require(recal.datasheet.empty() || recal.output != recal.datasheet,
             "recalibration.output must not be recalibration.datasheet (" +
                 recal.datasheet.string() + ")");
     if (recal.source == RecalibrationSource::Recording) {
@@ -136,7 +133,7 @@ class Rules {
     require(!run.recording.empty(), "recalibration.power_cycle_run.recording is missing");
     for (const auto& [other, key] : {std::pair{recal.output, "recalibration.output"},
                                      std::pair{recal.datasheet, "recalibration.datasheet"}}) {
-      require(run.recording != other, "recalibration.power_cycle_run.recording must not be " +
+      require(other.empty() || run.recording != other, "recalibration.power_cycle_run.recording must not be " +
                                           std::string(key) + " (" + other.string() + ")");
     }
   }

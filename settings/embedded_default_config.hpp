@@ -12,8 +12,10 @@ namespace tofcomp::settings {
 // config/tofcompd.yaml as it was when the library was built.
 std::string_view embedded_default_config_text();
 
-// The source tree's config/ directory, where the default's relative paths (its scenario, its
-// calibration) point.
+// Where the default's relative paths (its scenario, its calibration) point: the data directory
+// beside the binary (io/data_directory.hpp), PREFIX/share/tofcomp once installed and
+// build/share/tofcomp in the build tree, which hold copies of config/'s scenarios and
+// calibration (config/CMakeLists.txt).
 std::filesystem::path embedded_default_config_directory();
 
 // The default, read like a file in `base_directory`. Throws DaemonConfigError.

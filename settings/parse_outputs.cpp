@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "settings/config_fields.hpp"
+#include "settings/output_checks.hpp"
 #include "settings/section_parsers.hpp"
 
 namespace tofcomp::settings::sections {
@@ -12,17 +13,10 @@ namespace {
 
 using fields::between;
 
-// sockaddr_un::sun_path holds 108 bytes on Linux, the terminating NUL included.
-constexpr std::size_t kMaxSocketPathBytes = 107;
-// NAME_MAX for the name of a POSIX shared-memory object under /dev/shm.
-constexpr std::size_t kMaxShmNameBytes = 255;
-
 void parse_socket(const io::YamlMap& map, const ParseContext& context, SocketOutputConfig& out) {
   out.path = fields::path(map, "path", context.base_directory, out.path);
-  if (out.path.native().size() > kMaxSocketPathBytes) {
-    map.fail("path", "is " + std::to_string(out.path.native().size()) +
-                         " bytes long once resolved; a Unix socket path has at most " +
-                         std::to_string(kMaxSocketPathBytes));
+  if (const std::string problem = socket_path_problem(out.path); !problem.empty()) {
+    map.fail("path", problem);
   }
   out.mode = fields::octal_mode(map, "mode", out.mode);
   namespace limits = ipc::socket;
@@ -47,13 +41,8 @@ void parse_socket(const io::YamlMap& map, const ParseContext& context, SocketOut
 void parse_shm(const io::YamlMap& map, ShmOutputConfig& out) {
   if (map.has("name")) {
     const std::string name = map.text("name");
-    if (name.size() < 2 || name.size() > kMaxShmNameBytes + 1 || name.front() != '/' ||
-        name.find('/', 1) != std::string::npos || name.find('\0') != std::string::npos) {
-      map.fail("name",
-               "must be a shared-memory name like \"/tofcompd\" (one leading /, no "
-               "other, at most " +
-                   std::to_string(kMaxShmNameBytes) + " characters after it), not \"" + name +
-                   "\"");
+    if (const std::string problem = shm_name_problem(name); !problem.empty()) {
+      map.fail("name", problem);
     }
     out.name = name;
   }

@@ -81,9 +81,8 @@ void parse_recalibration(const io::YamlMap& root, const ParseContext& context,
       {{"on_request", RecalibrationTrigger::OnRequest},
        {"at_start_if_missing", RecalibrationTrigger::AtStartIfMissing}},
       out.trigger);
-  out.datasheet = out.source == RecalibrationSource::None
-                      ? fields::path(*map, "datasheet", context.base_directory, {})
-                      : fields::required_path(*map, "datasheet", context.base_directory);
+  // Left out: the LMS 200 datasheet built in (io/bundled_datasheet.hpp).
+  out.datasheet = fields::path(*map, "datasheet", context.base_directory, {});
   out.output = fields::path(*map, "output", context.base_directory, out.output);
   out.model_search = map->boolean_or("model_search", out.model_search);
   if (const auto limits =

@@ -17,6 +17,8 @@ PACKAGES=(
   nlohmann-json3-dev
   libsystemd-dev systemd
   python3 python3-matplotlib python3-numpy
+  scdoc
+  dpkg-dev lintian fakeroot
 )
 
 missing=()

@@ -19,8 +19,6 @@
 namespace tofcomp::daemon::service {
 namespace {
 
-constexpr const char* kLoggerName = "tofcompd";
-
 // One unsigned decimal number filling `text` exactly.
 bool parse_decimal(std::string_view text, unsigned long long& value) {
   if (text.empty()) return false;
@@ -28,13 +26,15 @@ bool parse_decimal(std::string_view text, unsigned long long& value) {
   return error == std::errc() && end == text.data() + text.size();
 }
 
-std::shared_ptr<spdlog::sinks::sink> make_sink(LogTarget target) {
+std::shared_ptr<spdlog::sinks::sink> make_sink(LogTarget target, const std::string& identity) {
   if (target == LogTarget::Journal) {
     // The journal stamps time, priority and identifier itself: the message goes unformatted.
-    return std::make_shared<spdlog::sinks::systemd_sink_mt>(kLoggerName);
+    return std::make_shared<spdlog::sinks::systemd_sink_mt>(identity);
   }
   auto sink = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
-  sink->set_pattern("%Y-%m-%d %H:%M:%S.%e %^%l%$ %v");
+  // Two instances logging to one terminal are told apart by their identity.
+  sink->set_pattern(identity == kDefaultLogIdentity ? "%Y-%m-%d %H:%M:%S.%e %^%l%$ %v"
+                                                    : "%Y-%m-%d %H:%M:%S.%e %n %^%l%$ %v");
   return sink;
 }
 
@@ -63,9 +63,10 @@ LogTarget resolve_log_target(LogTarget requested) {
                                                                          : LogTarget::Stderr;
 }
 
-LogTarget configure_logging(LogTarget target, spdlog::level::level_enum level) {
+LogTarget configure_logging(LogTarget target, spdlog::level::level_enum level,
+                            const std::string& identity) {
   const LogTarget chosen = resolve_log_target(target);
-  auto logger = std::make_shared<spdlog::logger>(kLoggerName, make_sink(chosen));
+  auto logger = std::make_shared<spdlog::logger>(identity, make_sink(chosen, identity));
   logger->set_level(level);
   // Warnings and worse reach the journal or the terminal at once, even if the daemon dies next.
   logger->flush_on(spdlog::level::warn);

@@ -4,6 +4,7 @@
 
 #include <spdlog/common.h>
 
+#include <string>
 #include <string_view>
 
 #include "settings/log_settings.hpp"
@@ -20,8 +21,14 @@ bool stream_is_journal(const char* journal_stream, int fd);
 // Auto resolved by the rule above for stderr (reading JOURNAL_STREAM); other targets as given.
 LogTarget resolve_log_target(LogTarget requested);
 
-// Makes a logger named "tofcompd" writing to the resolved target at `level` spdlog's default
-// logger (what spdlog::info() and friends use), and returns the target chosen.
-LogTarget configure_logging(LogTarget target, spdlog::level::level_enum level);
+// What the log lines of a daemon that is not an instance are identified by.
+inline constexpr std::string_view kDefaultLogIdentity = "tofcompd";
+
+// Makes a logger named `identity` writing to the resolved target at `level` spdlog's default
+// logger (what spdlog::info() and friends use), and returns the target chosen. In the journal
+// the identity is SYSLOG_IDENTIFIER; on stderr an identity other than the default (an
+// instance's, tofcompd@NAME) starts each line.
+LogTarget configure_logging(LogTarget target, spdlog::level::level_enum level,
+                            const std::string& identity = std::string(kDefaultLogIdentity));
 
 }  // namespace tofcomp::daemon::service

@@ -29,6 +29,13 @@ TEST(ConfigErrors, MinimalConfigurationParses) {
   EXPECT_TRUE(c.calibration.file.empty());
 }
 
+TEST(ConfigErrors, RecalibrationWithoutADatasheetTakesTheBuiltInOne) {
+  const DaemonConfig c =
+      parse(kMinimal + "recalibration: {source: recording, output: c.yaml, recording: {data: "
+                       "r.csv}}\n");
+  EXPECT_TRUE(c.recalibration.datasheet.empty());  // io::datasheet_or_bundled: the LMS 200's
+}
+
 TEST(ConfigErrors, UnknownKeysAtEveryDepth) {
   expect_error(kMinimal + "links: {}\n", "test.yaml: links is not a known key; allowed here:");
   expect_error(
@@ -159,8 +166,6 @@ TEST(ConfigErrors, MissingRequiredKeys) {
                    "recalibration: {source: recording, datasheet: d.yaml, output: c.yaml,"
                    " recording: {}}\n",
                "test.yaml: recalibration.recording.data is missing");
-  expect_error(kMinimal + "recalibration: {source: recording, output: c.yaml, recording: {}}\n",
-               "test.yaml: recalibration.datasheet is missing");
   expect_error(kMinimal + "recording: {rotation: {}}\n",
                "test.yaml: recording.rotation must give max_rows, max_minutes or both");
 }

@@ -237,8 +237,8 @@ std::filesystem::path write_recalibration_setup(const TemporaryDirectory& dir,
   write_file(config, config_text(dir.path(), shm, "calibration.yaml") +
                          "recalibration:\n"
                          "  source: recording\n"
-                         "  recording: {data: " + data.filename().string() + "}\n"
-                         "  datasheet: " + root + "/config/lms200-datasheet.yaml\n");
+                         "  recording: {data: " + data.filename().string() + "}\n");
+  // No recalibration.datasheet: the training starts from the LMS 200 datasheet built in.
   return config;
 }
 

@@ -358,10 +358,10 @@ TEST(DaemonHardening, ARingPlantedByAnotherUserDoesNotStopTheDaemon) {
   d.still_serves_and_stops();
 }
 
-TEST(DaemonHardening, OneDaemonPerRuntimeDirectoryByItsLockNotItsPid) {
+TEST(DaemonHardening, OneDaemonPerSocketByItsLockNotItsPid) {
   HardenedDaemon d("lock");
   d.start();
-  // A second daemon on the same runtime directory (another ring name) does not start.
+  // A second daemon on the same socket (another ring name) does not start.
   std::string second = read_file(d.config);
   replace_all(second, d.shm, d.shm + "-second");
   write_file(d.dir.path() / "second.yaml", second);
@@ -370,7 +370,7 @@ TEST(DaemonHardening, OneDaemonPerRuntimeDirectoryByItsLockNotItsPid) {
   while (other.running() && Clock::now() < until) std::this_thread::sleep_for(50ms);
   EXPECT_FALSE(other.running());
   EXPECT_NE(other.log().find("another tofcompd (pid "), std::string::npos) << other.log();
-  EXPECT_NE(other.log().find("runs with the runtime directory " + d.dir.path().string()),
+  EXPECT_NE(other.log().find("runs with the socket " + d.socket().string()),
             std::string::npos)
       << other.log();
   // Killed with SIGKILL, the first leaves its lock file and ring behind; the next start takes

@@ -23,8 +23,11 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSystemdDir = TOFCOMP_SYSTEMD_DIR;
+const fs::path kUnitDir = TOFCOMP_UNIT_DIR;
 constexpr const char* kShippedExecStart =
     "ExecStart=/usr/bin/tofcompd --config /etc/tofcompd/tofcompd.yaml";
+constexpr const char* kInstanceExecStart =
+    "ExecStart=/usr/bin/tofcompd --config /etc/tofcompd/%i.yaml --instance %i";
 
 struct CommandResult {
   int exit_code = -1;
@@ -65,8 +68,10 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 class SystemdFilesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    unit_ = read_all(kSystemdDir / "tofcompd.service");
-    ASSERT_FALSE(unit_.empty()) << kSystemdDir / "tofcompd.service";
+    unit_ = read_all(kUnitDir / "tofcompd.service");
+    ASSERT_FALSE(unit_.empty()) << kUnitDir / "tofcompd.service";
+    instance_unit_ = read_all(kUnitDir / "tofcompd@.service");
+    ASSERT_FALSE(instance_unit_.empty()) << kUnitDir / "tofcompd@.service";
   }
 
   // The unit as shipped but for the executable, which a build machine does not have installed.
@@ -76,8 +81,9 @@ class SystemdFilesTest : public ::testing::Test {
 
   // `systemd-analyze verify` passes a unit only when it exits 0 and says nothing: it reports
   // unknown keys and unparsable values as warnings with exit status 0.
-  CommandResult verify(const std::string& text) const {
-    const fs::path file = directory_ / "tofcompd.service";
+  CommandResult verify(const std::string& text,
+                       const std::string& name = "tofcompd.service") const {
+    const fs::path file = directory_ / name;
     std::ofstream(file) << text;
     return run("systemd-analyze verify --man=no " + quoted(file));
   }
@@ -85,6 +91,7 @@ class SystemdFilesTest : public ::testing::Test {
 
   test_support::TemporaryDirectory directory_;
   std::string unit_;
+  std::string instance_unit_;  // tofcompd@.service
 };
 
 TEST_F(SystemdFilesTest, ToolsArePresent) {
@@ -108,6 +115,25 @@ TEST_F(SystemdFilesTest, ShippedUnitStartsTheInstalledDaemonWithItsConfig) {
 
 TEST_F(SystemdFilesTest, UnitVerifiesCleanly) {
   const CommandResult r = verify(checkable_unit());
+  EXPECT_TRUE(passes(r)) << "exit " << r.exit_code << ":\n" << r.output;
+}
+
+// tofcompd@.service: instance NAME reads /etc/tofcompd/NAME.yaml and publishes as --instance NAME
+// says; its runtime and state directories are its own; otherwise it is the same unit.
+TEST_F(SystemdFilesTest, InstanceUnitNamesItsConfigSocketAndStateByTheInstance) {
+  EXPECT_NE(instance_unit_.find("\n" + std::string(kInstanceExecStart) + "\n"), std::string::npos)
+      << instance_unit_;
+  EXPECT_NE(instance_unit_.find("\nRuntimeDirectory=tofcompd/%i\n"), std::string::npos);
+  EXPECT_NE(instance_unit_.find("\nStateDirectory=tofcompd/%i\n"), std::string::npos);
+  std::string as_plain = instance_unit_;
+  as_plain = replaced(as_plain, kInstanceExecStart, kShippedExecStart);
+  as_plain = replaced(as_plain, "RuntimeDirectory=tofcompd/%i", "RuntimeDirectory=tofcompd");
+  as_plain = replaced(as_plain, "StateDirectory=tofcompd/%i", "StateDirectory=tofcompd");
+  as_plain = replaced(as_plain, " (instance %i)", "");
+  EXPECT_EQ(as_plain, unit_);
+  const CommandResult r = verify(
+      replaced(instance_unit_, "ExecStart=/usr/bin/tofcompd ", "ExecStart=/bin/true "),
+      "tofcompd@left.service");
   EXPECT_TRUE(passes(r)) << "exit " << r.exit_code << ":\n" << r.output;
 }
 

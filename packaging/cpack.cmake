@@ -1,0 +1,94 @@
+# Debian packages by CPack's DEB generator, one per install component (docs/deployment.md,
+# "Debian packages"):
+#   daemon      -> tofcompd               the daemon, its units, sysusers file, configuration
+#                                         (/etc/tofcompd/tofcompd.yaml, a real scanner), the
+#                                         emulator's example configuration, man pages 8 and 5
+#   cli         -> tofcomp                the command line, the report renderer, the scenarios,
+#                                         the datasheet and calibration (/usr/share/tofcomp),
+#                                         the documentation, man page 1
+#   client      -> libtofcomp-client0     the client library (shared)
+#   client-dev  -> libtofcomp-client-dev  its headers, static library, pkg-config and CMake files
+# A component that no install rule fills is left out, so the list follows what the tree builds.
+# Built with `cpack --config build/CPackConfig.cmake -B DIR` (tests/install/packages_test.sh);
+# the binaries are stripped as they are packaged.
+# Included last by the top-level CMakeLists.txt, after every install rule.
+get_cmake_property(TOFCOMP_INSTALL_COMPONENTS COMPONENTS)
+set(TOFCOMP_PACKAGE_COMPONENTS)
+foreach(component daemon cli client client-dev)
+  if(component IN_LIST TOFCOMP_INSTALL_COMPONENTS)
+    list(APPEND TOFCOMP_PACKAGE_COMPONENTS ${component})
+  endif()
+endforeach()
+
+set(TOFCOMP_PACKAGE_daemon tofcompd)
+set(TOFCOMP_PACKAGE_cli tofcomp)
+set(TOFCOMP_PACKAGE_client libtofcomp-client0)
+set(TOFCOMP_PACKAGE_client-dev libtofcomp-client-dev)
+set(TOFCOMP_SUMMARY_daemon "LiDAR temperature and mode-hopping compensation daemon")
+set(TOFCOMP_SUMMARY_cli "LiDAR temperature and mode-hopping compensation tools")
+set(TOFCOMP_SUMMARY_client "client library of the tofcompd LiDAR compensation daemon")
+set(TOFCOMP_SUMMARY_client-dev "client library of tofcompd: development files")
+set(TOFCOMP_DESCRIPTION_daemon
+  "tofcompd reads a SICK LMS 200 over its serial link and a thermometer on its case, compensates
+ each range for the laser's junction temperature and lasing mode, and publishes the scans to a
+ shared-memory ring and a Unix socket. Runs as a hardened systemd service, one per scanner
+ (tofcompd@.service).")
+set(TOFCOMP_DESCRIPTION_cli
+  "tofcomp calibrates the compensation from measured data, evaluates and diagnoses it, emulates
+ an LMS 200, and queries a running tofcompd over its socket and shared-memory ring.")
+set(TOFCOMP_DESCRIPTION_client
+  "The library programs link to read compensated scans from tofcompd.")
+set(TOFCOMP_DESCRIPTION_client-dev
+  "Headers, static library, pkg-config and CMake files of the tofcompd client library.")
+
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGE_NAME tofcomp)
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGE_CONTACT "tofcomp maintainers <maintainers@users.noreply.h-seed-b9bed1ab.example>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "${PROJECT_DESCRIPTION}")
+set(CPACK_DEB_COMPONENT_INSTALL ON)
+set(CPACK_COMPONENTS_ALL ${TOFCOMP_PACKAGE_COMPONENTS})
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+# /etc/tofcompd is outside the prefix: installed through DESTDIR with the prefix /usr.
+set(CPACK_SET_DESTDIR ON)
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_STRIP_FILES ON)
+# Depends: from the libraries the binaries link (dpkg-shlibdeps), and between the components.
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_ENABLE_COMPONENT_DEPENDS ON)
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
+set(CPACK_DEBIAN_PACKAGE_HOMEPAGE "https://example.invalid/tofcomp")
+# The daemon's emulator example plays the scenarios the command line's package ships.
+set(CPACK_COMPONENT_DAEMON_DEPENDS cli)
+set(CPACK_COMPONENT_CLIENT-DEV_DEPENDS client)
+
+set(TOFCOMP_PACKAGING_BINARY_DIR ${PROJECT_BINARY_DIR}/packaging)
+string(TIMESTAMP TOFCOMP_PACKAGE_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)
+foreach(component ${TOFCOMP_PACKAGE_COMPONENTS})
+  string(TOUPPER ${component} upper)
+  set(package ${TOFCOMP_PACKAGE_${component}})
+  set(CPACK_DEBIAN_${upper}_PACKAGE_NAME ${package})
+  set(CPACK_COMPONENT_${upper}_DISPLAY_NAME ${package})
+  set(CPACK_COMPONENT_${upper}_DESCRIPTION
+    "${TOFCOMP_SUMMARY_${component}}\n ${TOFCOMP_DESCRIPTION_${component}}")
+  # Every Debian package carries its copyright file and changelog in /usr/share/doc/PACKAGE.
+  set(TOFCOMP_PACKAGE_NAME ${package})
+  configure_file(${TOFCOMP_SOURCE_ROOT}/packaging/changelog.in
+    ${TOFCOMP_PACKAGING_BINARY_DIR}/${package}/changelog @ONLY)
+  execute_process(COMMAND gzip -9nf ${TOFCOMP_PACKAGING_BINARY_DIR}/${package}/changelog
+    COMMAND_ERROR_IS_FATAL ANY)
+  install(FILES ${TOFCOMP_SOURCE_ROOT}/packaging/copyright
+                ${TOFCOMP_PACKAGING_BINARY_DIR}/${package}/changelog.gz
+    DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/${package} COMPONENT ${component})
+endforeach()
+
+# The daemon's package: its configuration is a conffile (kept across upgrades when edited), and
+# its maintainer scripts make the system user and tell systemd of the units.
+set(CPACK_DEBIAN_DAEMON_PACKAGE_CONTROL_EXTRA
+  ${TOFCOMP_SOURCE_ROOT}/packaging/tofcompd/conffiles
+  ${TOFCOMP_SOURCE_ROOT}/packaging/tofcompd/postinst
+  ${TOFCOMP_SOURCE_ROOT}/packaging/tofcompd/postrm)
+set(CPACK_DEBIAN_DAEMON_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+
+include(CPack)
