@@ -29,13 +29,14 @@ set(TOFCOMP_SUMMARY_cli "LiDAR temperature and mode-hopping compensation tools")
 set(TOFCOMP_SUMMARY_client "client library of the tofcompd LiDAR compensation daemon")
 set(TOFCOMP_SUMMARY_client-dev "client library of tofcompd: development files")
 set(TOFCOMP_DESCRIPTION_daemon
-  "tofcompd reads a SICK LMS 200 over its serial link and a thermometer on its case, compensates
- each range for the laser's junction temperature and lasing mode, and publishes the scans to a
- shared-memory ring and a Unix socket. Runs as a hardened systemd service, one per scanner
- (tofcompd@.service).")
+  "tofcompd reads a SICK LMS 200 over its serial link and a thermometer on its
+case, compensates each range for the laser's junction temperature and lasing
+mode, and publishes the scans to a shared-memory ring and a Unix socket. It
+runs as a hardened systemd service, one per scanner (tofcompd@.service).")
 set(TOFCOMP_DESCRIPTION_cli
-  "tofcomp calibrates the compensation from measured data, evaluates and diagnoses it, emulates
- an LMS 200, and queries a running tofcompd over its socket and shared-memory ring.")
+  "tofcomp calibrates the compensation from measured data, evaluates and
+diagnoses it, emulates an LMS 200, and queries a running tofcompd over its
+socket and shared-memory ring.")
 set(TOFCOMP_DESCRIPTION_client
   "The library programs link to read compensated scans from tofcompd.")
 set(TOFCOMP_DESCRIPTION_client-dev
@@ -45,13 +46,16 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME tofcomp)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_CONTACT "tofcomp maintainers <maintainers@users.noreply.h-seed-b9bed1ab.example>")
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "${PROJECT_DESCRIPTION}")
+# Each package's summary is the first line of its own description (below): the project-wide
+# summary is set to CPack's default, which CPackDeb does not prepend.
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "${CMAKE_PROJECT_NAME} built using CMake")
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL ${TOFCOMP_PACKAGE_COMPONENTS})
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 # /etc/tofcompd is outside the prefix: installed through DESTDIR with the prefix /usr.
 set(CPACK_SET_DESTDIR ON)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 # Depends: from the libraries the binaries link (dpkg-shlibdeps), and between the components.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
@@ -70,8 +74,8 @@ foreach(component ${TOFCOMP_PACKAGE_COMPONENTS})
   set(package ${TOFCOMP_PACKAGE_${component}})
   set(CPACK_DEBIAN_${upper}_PACKAGE_NAME ${package})
   set(CPACK_COMPONENT_${upper}_DISPLAY_NAME ${package})
-  set(CPACK_COMPONENT_${upper}_DESCRIPTION
-    "${TOFCOMP_SUMMARY_${component}}\n ${TOFCOMP_DESCRIPTION_${component}}")
+  set(CPACK_DEBIAN_${upper}_DESCRIPTION
+    "${TOFCOMP_SUMMARY_${component}}\n${TOFCOMP_DESCRIPTION_${component}}")
   # Every Debian package carries its copyright file and changelog in /usr/share/doc/PACKAGE.
   set(TOFCOMP_PACKAGE_NAME ${package})
   configure_file(${TOFCOMP_SOURCE_ROOT}/packaging/changelog.in

@@ -1,19 +1,28 @@
 #!/usr/bin/env bash
-# `cmake --install` with the prefix the unit expects (/usr) into a staging directory: the
-# programs, the configuration, the unit, the sysusers file, the docs and the report renderer
-# land where a Debian system looks for them, the installed daemon accepts its installed
-# configuration, and the installed tofcomp finds its renderer and needs no datasheet file.
+# `cmake --install --strip` with the prefix a Debian system uses (/usr) into a staging directory:
+# the programs, the configuration, the units, the sysusers file, the man pages, the docs and the
+# data directory land where a Debian system looks for them; the installed /etc/tofcompd/tofcompd.yaml
+# names a real scanner (no emulator) and passes the daemon's check once its state files exist; the
+# emulator runs from the installed data directory only when asked; the installed tofcomp finds its
+# renderer and needs no datasheet file; no path of the build tree is in a binary. Then the prefix
+# /usr/local: the units name that prefix's daemon and configuration.
 set -euo pipefail
 build=$1
+root=$(cd "$(dirname "$0")/../.." && pwd)
 stage=$(mktemp -d)
-trap 'rm -rf "$stage"' EXIT
-DESTDIR="$stage" cmake --install "$build" --prefix /usr > "$stage.log"
-for f in usr/bin/tofcompd usr/bin/tofcomp \
-         etc/tofcompd/tofcompd.yaml etc/tofcompd/tofcompd-hardware.yaml \
-         etc/tofcompd/calibration.yaml etc/tofcompd/scenarios/default.yaml \
-         usr/lib/systemd/system/tofcompd.service usr/lib/sysusers.d/tofcompd.conf \
+trap 'rm -rf "$stage" "$stage.log"' EXIT
+DESTDIR="$stage" cmake --install "$build" --prefix /usr --strip > "$stage.log"
+for f in usr/bin/tofcompd usr/bin/tofcomp etc/tofcompd/tofcompd.yaml \
+         usr/lib/systemd/system/tofcompd.service usr/lib/systemd/system/tofcompd@.service \
+         usr/lib/sysusers.d/tofcompd.conf \
+         usr/share/man/man8/tofcompd.8.gz usr/share/man/man5/tofcompd.yaml.5.gz \
+         usr/share/man/man1/tofcomp.1.gz \
+         usr/share/tofcomp/tofcompd-emulator.yaml usr/share/tofcomp/calibration.yaml \
+         usr/share/tofcomp/lms200-datasheet.yaml usr/share/tofcomp/scenarios/default.yaml \
+         usr/share/tofcomp/scenarios/effect-warm-up.yaml \
          usr/share/doc/tofcomp/README.md usr/share/doc/tofcomp/protocol.md \
-         usr/share/doc/tofcomp/configuration.md \
+         usr/share/doc/tofcomp/configuration.md usr/share/doc/tofcomp/copyright \
+         usr/share/doc/tofcompd/copyright usr/share/doc/tofcompd/changelog.gz \
          usr/share/tofcomp/report/diagnosis_report.py usr/share/tofcomp/report/report_data.py \
          usr/share/tofcomp/report/report_figures.py usr/share/tofcomp/report/report_html.py \
          usr/share/tofcomp/report/report_figures_em.py \
@@ -22,24 +31,64 @@ for f in usr/bin/tofcompd usr/bin/tofcomp \
          usr/share/tofcomp/report/report_style.py; do
   [ -e "$stage/$f" ] || { echo "not installed: /$f"; cat "$stage.log"; exit 1; }
 done
-rm -f "$stage.log"
-# The unit starts the daemon on this file.
-grep -q '^ExecStart=/usr/bin/tofcompd --config /etc/tofcompd/tofcompd.yaml' \
+# The units start the installed daemon on the installed configuration.
+grep -qx 'ExecStart=/usr/bin/tofcompd --config /etc/tofcompd/tofcompd.yaml' \
   "$stage/usr/lib/systemd/system/tofcompd.service"
-"$stage/usr/bin/tofcompd" --config "$stage/etc/tofcompd/tofcompd.yaml" --check-config
-# The installed tofcomp finds its report renderer beside it (../share/tofcomp/report) and
-# writes a report with its figures.
-root=$(cd "$(dirname "$0")/../.." && pwd)
-"$stage/usr/bin/tofcomp" -q simulate "$root/tests/install/short-scenario.yaml" -o "$stage/short.csv"
+grep -qx 'ExecStart=/usr/bin/tofcompd --config /etc/tofcompd/%i.yaml --instance %i' \
+  "$stage/usr/lib/systemd/system/tofcompd@.service"
+# No path of the source or build tree in a binary (the data directory is found from the binary).
+for b in tofcompd tofcomp; do
+  if strings "$stage/usr/bin/$b" | grep -F -e "$root" -e "$(cd "$build" && pwd)"; then
+    echo "/usr/bin/$b holds a path of the build tree"; exit 1
+  fi
+done
+
+# The installed configuration drives a real scanner: an LMS 200 on a serial port, no emulator.
+conf="$stage/etc/tofcompd/tofcompd.yaml"
+grep -q '^  device: /dev/ttyUSB0' "$conf"
+if grep -q '^emulator:' "$conf"; then echo "the installed configuration runs the emulator"; exit 1; fi
+# Its state files (a calibration, a bench recording) do not exist on a new host: the check says
+# which is missing. With them in place (here under the stage's var/) it passes, with no scenario.
+if "$stage/usr/bin/tofcompd" --config "$conf" --check-config > "$stage/check" 2>&1; then
+  echo "the installed configuration passed without its calibration"; exit 1
+fi
+grep -q 'calibration.file /var/lib/tofcompd/calibration.yaml' "$stage/check"
+mkdir -p "$stage/var/bench"
+sed "s|/var/lib/tofcompd|$stage/var|g" "$conf" > "$stage/real.yaml"
+cp "$stage/usr/share/tofcomp/calibration.yaml" "$stage/var/calibration.yaml"
+"$stage/usr/bin/tofcomp" -q simulate "$root/tests/install/short-scenario.yaml" -o "$stage/var/bench.csv" > /dev/null
+"$stage/usr/bin/tofcompd" --config "$stage/real.yaml" --check-config > "$stage/check"
+grep -q ': valid; calibration '"$stage"'/var/calibration.yaml; datasheet: the bundled LMS 200 datasheet' "$stage/check"
+if grep -q scenario "$stage/check"; then cat "$stage/check"; exit 1; fi
+# The emulator only when asked: the installed example and the built-in default read their
+# scenario and calibration from the installed data directory.
+data="$stage/usr/share/tofcomp"
+"$stage/usr/bin/tofcompd" --config "$data/tofcompd-emulator.yaml" --check-config |
+  grep -qF "valid; calibration $data/calibration.yaml; scenario $data/scenarios/default.yaml"
+"$stage/usr/bin/tofcompd" --check-config |
+  grep -qF "built-in default (config/tofcompd.yaml): valid; calibration $data/calibration.yaml; scenario $data/scenarios/default.yaml"
+
+# The installed tofcomp finds its report renderer in the data directory and writes a report.
+"$stage/usr/bin/tofcomp" -q simulate "$root/tests/install/short-scenario.yaml" -o "$stage/short.csv" > /dev/null
 "$stage/usr/bin/tofcomp" -q diagnose "$stage/short.csv" \
-  --datasheet "$stage/etc/tofcompd/lms200-datasheet.yaml" --report "$stage/report" > /dev/null
+  --datasheet "$data/lms200-datasheet.yaml" --report "$stage/report" > /dev/null
 grep -q 'src="figures/fig19_absolute_error_moments.png"' "$stage/report/index.html"
+test -s "$stage/report/figures/fig03_histogram.png"
 # The installed tofcomp needs no datasheet file: without --datasheet it fits as from the
 # installed copy of config/lms200-datasheet.yaml.
 "$stage/usr/bin/tofcomp" -q thermal-fit "$stage/short.csv" --json > "$stage/fit-default.json"
 "$stage/usr/bin/tofcomp" -q thermal-fit "$stage/short.csv" --json \
-  --datasheet "$stage/etc/tofcompd/lms200-datasheet.yaml" > "$stage/fit-named.json"
+  --datasheet "$data/lms200-datasheet.yaml" > "$stage/fit-named.json"
 cmp -s "$stage/fit-default.json" "$stage/fit-named.json" ||
   { echo "installed tofcomp's default datasheet is not lms200-datasheet.yaml"; exit 1; }
-test -s "$stage/report/figures/fig03_histogram.png"
+
+# Another prefix: the units follow it.
+local_stage="$stage/local"
+DESTDIR="$local_stage" cmake --install "$build" --prefix /usr/local --component daemon > "$stage.log"
+grep -qx 'ExecStart=/usr/local/bin/tofcompd --config /usr/local/etc/tofcompd/tofcompd.yaml' \
+  "$local_stage/usr/local/lib/systemd/system/tofcompd.service"
+grep -qx 'ExecStart=/usr/local/bin/tofcompd --config /usr/local/etc/tofcompd/%i.yaml --instance %i' \
+  "$local_stage/usr/local/lib/systemd/system/tofcompd@.service"
+test -f "$local_stage/usr/local/etc/tofcompd/tofcompd.yaml"
+test -x "$local_stage/usr/local/bin/tofcompd"
 echo "install layout holds"

@@ -125,7 +125,7 @@ TEST(ExampleFiles, HardwareHoldsTheValuesWrittenInIt) {
   EXPECT_EQ(c.recording.max_minutes, 60);
 
   EXPECT_EQ(c.recalibration.source, RecalibrationSource::Recording);
-  EXPECT_EQ(c.recalibration.datasheet, "/etc/tofcompd/lms200-datasheet.yaml");
+  EXPECT_TRUE(c.recalibration.datasheet.empty());  // the built-in LMS 200 datasheet
   EXPECT_EQ(c.recalibration.output, "/var/lib/tofcompd/calibration.yaml");
   EXPECT_EQ(c.recalibration.data, "/var/lib/tofcompd/bench.csv");
 
@@ -137,9 +137,12 @@ TEST(ExampleFiles, BuiltInDefaultIsTheDefaultFile) {
   std::ostringstream text;
   text << in.rdbuf();
   EXPECT_EQ(embedded_default_config_text(), text.str());
-  EXPECT_EQ(embedded_default_config_directory(), kConfigDir);
+  // Its paths are taken from the data directory beside the binary (io/data_directory.hpp), not
+  // from the source tree: PREFIX/share/tofcomp for PREFIX/bin.
+  EXPECT_EQ(embedded_default_config_directory().filename(), "tofcomp");
+  EXPECT_EQ(embedded_default_config_directory().parent_path().filename(), "share");
 
-  const DaemonConfig built_in = embedded_default_config();
+  const DaemonConfig built_in = embedded_default_config(kConfigDir);
   const DaemonConfig from_file = load_daemon_config(kConfigDir / "tofcompd.yaml");
   EXPECT_TRUE(keys_needing_restart(built_in, from_file).empty());
   EXPECT_EQ(built_in.emulator.scenario, from_file.emulator.scenario);
