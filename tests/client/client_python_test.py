@@ -34,14 +34,20 @@ class LiveDaemon(unittest.TestCase):
         cls.ring = "/tofcomp-python-test-%d" % os.getpid()
         config = os.path.join(cls.dir.name, "tofcompd.yaml")
         with open(config, "w") as out:
-            out.write("emulator:\n  scenario: %s/config/scenarios/default.yaml\n"
+            out.write("emulator:\n  enabled: true\n  scenario: %s/config/scenarios/default.yaml\n"
+                      "case_sensor:\n  backend: simulated\n"
                       "calibration:\n  file: %s/config/calibration.yaml\n"
                       "outputs:\n  socket:\n    path: %s\n  shm:\n    name: %s\n"
                       % (root, root, cls.socket, cls.ring))
         cls.log = open(os.path.join(cls.dir.name, "tofcompd.log"), "w")
         cls.daemon = subprocess.Popen([os.environ["TOFCOMPD_BINARY"], "--config", config],
                                       stdout=cls.log, stderr=subprocess.STDOUT)
-        wait_for(lambda: os.path.exists(cls.socket), "the daemon's socket")
+        def socket_or_exit():
+            if cls.daemon.poll() is not None:
+                with open(cls.log.name) as log:
+                    raise AssertionError("tofcompd exited: " + log.read())
+            return os.path.exists(cls.socket)
+        wait_for(socket_or_exit, "the daemon's socket")
 
     @classmethod
     def tearDownClass(cls):

@@ -54,7 +54,10 @@ fi
 ring=/tofcomp-install-test-$$
 cat > "$work/tofcompd.yaml" <<YAML
 emulator:
+  enabled: true
   scenario: $root/config/scenarios/default.yaml
+case_sensor:
+  backend: simulated
 calibration:
   file: $root/config/calibration.yaml
 outputs:
@@ -65,7 +68,11 @@ outputs:
 YAML
 "$tofcompd" --config "$work/tofcompd.yaml" > "$work/tofcompd.log" 2>&1 &
 daemon_pid=$!
-for _ in $(seq 1500); do [ -S "$work/tofcompd.sock" ] && break; sleep 0.02; done
+for _ in $(seq 1500); do
+  [ -S "$work/tofcompd.sock" ] && break
+  kill -0 "$daemon_pid" 2>/dev/null || fail "tofcompd exited"
+  sleep 0.02
+done
 [ -S "$work/tofcompd.sock" ] || fail "tofcompd made no socket within 30 s"
 
 # The programs' output: the protocol version from hello, then five beams 178..182.
