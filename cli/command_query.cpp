@@ -1,7 +1,9 @@
 // tofcomp query: asks a running tofcompd over its Unix socket (docs/protocol.md) for the latest
 // scan, its status or statistics, a reload or a recalibration, or the scans of a subscription
 // (a number of them, or until interrupted); prints them as text (a table of beams) or, with
-// --json, as the daemon sent them (a subscription's scans one JSON object per line).
+// --json, as the daemon sent them (a subscription's scans one JSON object per line). It talks to
+// the daemon through libtofcomp-client (tofcomp/client.hpp), as any client program does: the
+// connection states the protocol version (hello) and a daemon of another major one is refused.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,10 +18,9 @@
 #include "cli/stream_output.hpp"
 #include "core/error.hpp"
 #include "ipc/instance_name.hpp"
-#include "ipc/socket/client.hpp"
-#include "ipc/socket/protocol_error.hpp"
+#include "ipc/socket/protocol_constants.hpp"
 #include "ipc/socket/scan_json.hpp"
-#include "ipc/socket/subscription.hpp"
+#include "tofcomp/client.hpp"
 
 namespace tofcomp::cli {
 
@@ -63,14 +64,25 @@ void flatten(const json& value, const std::string& prefix, std::string& text) {
   text += (prefix.empty() ? "" : prefix + ": ") + shown + "\n";
 }
 
-// One request; a refusal becomes an error naming the daemon's code.
-json call(ipcs::SocketClient& client, json request, std::chrono::milliseconds timeout) {
+// Runs f against the daemon at socket; the library's errors become core::Error, a refusal
+// naming the daemon's code.
+template <typename F>
+auto with_daemon(const std::string& socket, F&& f) {
   try {
-    return client.call(std::move(request), timeout);
-  } catch (const ipcs::ProtocolError& e) {
-    throw core::Error("tofcompd at " + client.path() + " answered " +
-                      std::string(ipcs::to_string(e.code())) + ": " + e.what());
+    return f();
+  } catch (const client::Error& e) {
+    if (e.kind() == client::ErrorKind::Daemon) {
+      throw core::Error("tofcompd at " + socket + " answered " + e.daemon_code() + ": " +
+                        e.what());
+    }
+    throw core::Error(e.what());
   }
+}
+
+std::optional<client::BeamRange> library_range(const std::string& beams) {
+  const auto range = parse_beam_range(beams);
+  if (!range) return std::nullopt;
+  return client::BeamRange{range->first, range->last};
 }
 
 // The request for op, its options checked before anything is sent.
@@ -94,8 +106,10 @@ json request_for(const QueryOptions& o, const std::string& op) {
 CommandResult run_simple(const QueryOptions& o, const std::string& op) {
   const json request = request_for(o, op);
   const auto timeout = timeout_of(o);
-  ipcs::SocketClient client(o.socket, timeout);
-  const json reply = call(client, request, timeout);
+  const json reply = with_daemon(o.socket, [&] {
+    client::Connection daemon(o.socket, timeout);
+    return json::parse(daemon.call(request.dump(), timeout));
+  });
   CommandResult result;
   if (op == "latest") {
     result.json = reply.at("scan");
@@ -113,21 +127,19 @@ CommandResult run_simple(const QueryOptions& o, const std::string& op) {
 }
 
 CommandResult run_subscribe(const QueryOptions& o, const CommonOptions& common) {
-  const auto beams = parse_beam_range(o.beams);
+  const auto beams = library_range(o.beams);
   const auto timeout = timeout_of(o);
-  ipcs::SocketClient client(o.socket, timeout);
-  std::optional<ipcs::ScanSubscription> subscription;
-  try {
-    subscription.emplace(client, beams, o.every, timeout);
-  } catch (const ipcs::ProtocolError& e) {
-    throw core::Error("tofcompd at " + o.socket + " answered " +
-                      std::string(ipcs::to_string(e.code())) + ": " + e.what());
-  }
+  client::Connection daemon = with_daemon(o.socket, [&] {
+    client::Connection connection(o.socket, timeout);
+    connection.subscribe(beams, o.every, client::Format::Json, timeout);
+    return connection;
+  });
   const bool until_stopped = o.count == kUntilStopped;
   end_stream_on_interrupt();
-  // Each scan is printed as it arrives: text, or with --json one scan object per line.
+  // Each scan is printed as it arrives: text, or with --json one scan object per line (the
+  // object as the daemon sent it).
   for (int printed = 0; until_stopped || printed < o.count;) {
-    auto scan = subscription->next(timeout);
+    auto scan = with_daemon(o.socket, [&] { return daemon.next_scan(timeout); });
     if (!scan) {
       if (until_stopped) continue;  // a quiet daemon: keep waiting, as gpspipe does
       throw core::Error("no scan from tofcompd at " + o.socket + " within " +
@@ -135,8 +147,7 @@ CommandResult run_subscribe(const QueryOptions& o, const CommonOptions& common) 
                         " of " + std::to_string(o.count));
     }
     const std::string line =
-        common.json ? scan->dump(-1, ' ', false, json::error_handler_t::replace) + "\n"
-                    : scan_text(*scan) + "\n";
+        common.json ? scan->json + "\n" : scan_text(json::parse(scan->json)) + "\n";
     if (!write_stream_line(line)) break;  // the reader went away
     ++printed;
   }

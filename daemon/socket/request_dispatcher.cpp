@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/version.hpp"
 #include "ipc/socket/reply.hpp"
 #include "ipc/socket/scan_json.hpp"
 
@@ -18,7 +19,7 @@ namespace {
 ordered_json subscription_json(const Subscription& s) {
   ordered_json beams = nullptr;
   if (s.beams) beams = ordered_json::array({s.beams->first, s.beams->last});
-  return ordered_json{{"beams", beams}, {"every", s.every}};
+  return ordered_json{{"beams", beams}, {"every", s.every}, {"format", ipcs::to_string(s.format)}};
 }
 
 }  // namespace
@@ -80,13 +81,20 @@ std::string RequestDispatcher::execute(const ipcs::Request& request,
           ipcs::beams_exactly(request.beams, scan->beams.size());
         }
       }
-      subscription = Subscription{request.beams, request.every};
+      subscription = Subscription{request.beams, request.every, request.format};
       return ipcs::encode_ok_reply(
           request.id, ordered_json{{"subscription", subscription_json(*subscription)}});
     }
     case Op::Unsubscribe:
       subscription.reset();
       return ipcs::encode_ok_reply(request.id, ordered_json{{"subscription", nullptr}});
+    case Op::Hello:
+      return ipcs::encode_ok_reply(
+          request.id, ordered_json{{"hello",
+                                    {{"protocol_major", ipcs::kProtocolVersionMajor},
+                                     {"protocol_minor", ipcs::kProtocolVersionMinor},
+                                     {"daemon", "tofcompd"},
+                                     {"daemon_version", io::kVersion}}}});
     case Op::Status:
       return ipcs::encode_ok_reply(request.id, ordered_json{{"status", handler_.status()}});
     case Op::Stats:

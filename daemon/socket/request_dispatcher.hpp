@@ -19,6 +19,7 @@ namespace tofcomp::daemon::socket {
 struct Subscription {
   std::optional<ipc::socket::BeamRange> beams;  // absent: every beam
   std::uint32_t every = 1;
+  ipc::socket::ScanFormat format = ipc::socket::ScanFormat::Json;
 };
 
 struct Answer {

@@ -1,5 +1,5 @@
-// One published scan made into the event lines of every subscription: encoded once per distinct
-// beam span, shared by every connection that takes that span.
+// One published scan made into the event lines (or compact frames) of every subscription:
+// encoded once per distinct beam span and format, shared by every connection that takes it.
 #pragma once
 
 #include <cstddef>
@@ -18,7 +18,7 @@ class ScanFanout {
  public:
   explicit ScanFanout(const ipc::CompensatedScan& scan) : scan_(scan) {}
 
-  // The event line for a subscription; nullptr when the subscription skips this scan (its
+  // The event line or compact frame for a subscription; nullptr when the subscription skips this scan (its
   // sequence is not a multiple of every).
   std::shared_ptr<const std::string> line_for(const Subscription& subscription);
 
@@ -26,7 +26,12 @@ class ScanFanout {
 
  private:
   const ipc::CompensatedScan& scan_;
-  std::vector<std::pair<ipc::socket::BeamSpan, std::shared_ptr<const std::string>>> lines_;
+  struct Encoding {
+    ipc::socket::BeamSpan span;
+    ipc::socket::ScanFormat format;
+    std::shared_ptr<const std::string> bytes;
+  };
+  std::vector<Encoding> lines_;
 };
 
 }  // namespace tofcomp::daemon::socket

@@ -12,6 +12,7 @@
 #include <thread>
 #include <utility>
 
+#include "ipc/socket/compact_frame.hpp"
 #include "ipc/socket/protocol_error.hpp"
 
 namespace tofcomp::ipc::socket {
@@ -142,7 +143,7 @@ void SocketClient::send_bytes(std::string_view bytes, Duration timeout) {
     if (errno == EINTR) continue;
     if (errno == EAGAIN) {
       if (!wait_ready(fd_, POLLOUT, deadline)) {
-        throw core::Error("tofcompd at " + path_ + " took no bytes for " +
+        throw SocketTimeout("tofcompd at " + path_ + " took no bytes for " +
                           std::to_string(timeout.count()) + " ms");
       }
       continue;
@@ -154,20 +155,34 @@ void SocketClient::send_bytes(std::string_view bytes, Duration timeout) {
   }
 }
 
-std::optional<std::string> SocketClient::take_line() {
+std::optional<SocketClient::Unit> SocketClient::take_unit() {
+  if (!buffer_.empty() && static_cast<unsigned char>(buffer_[0]) == kCompactMagic[0]) {
+    if (buffer_.size() < kCompactHeaderBytes) return std::nullopt;
+    std::size_t size = 0;
+    try {
+      size = compact_frame_size(std::string_view(buffer_).substr(0, kCompactHeaderBytes));
+    } catch (const core::InvalidInput& e) {
+      throw core::Error("tofcompd at " + path_ + " sent a bad " + e.what());
+    }
+    if (buffer_.size() < size) return std::nullopt;
+    Unit unit{buffer_.substr(0, size), true};
+    buffer_.erase(0, size);
+    scanned_ = 0;
+    return unit;
+  }
   const auto newline = buffer_.find('\n', scanned_);
   if (newline == std::string::npos) {
     scanned_ = buffer_.size();
     return std::nullopt;
   }
-  std::string line = buffer_.substr(0, newline);
+  Unit unit{buffer_.substr(0, newline), false};
   buffer_.erase(0, newline + 1);
   scanned_ = 0;
-  return line;
+  return unit;
 }
 
-std::optional<std::string> SocketClient::read_line(Duration timeout) {
-  if (auto line = take_line()) return line;
+std::optional<SocketClient::Unit> SocketClient::read_unit(Duration timeout) {
+  if (auto unit = take_unit()) return unit;
   if (fd_ < 0) throw SocketClosed("the connection to " + path_ + " is closed");
   const auto deadline = Clock::now() + timeout;
   char chunk[65536];
@@ -175,7 +190,7 @@ std::optional<std::string> SocketClient::read_line(Duration timeout) {
     const ssize_t n = ::recv(fd_, chunk, sizeof chunk, 0);
     if (n > 0) {
       buffer_.append(chunk, static_cast<std::size_t>(n));
-      if (auto line = take_line()) return line;
+      if (auto unit = take_unit()) return unit;
       if (buffer_.size() > kClientMaxLineBytes) {
         throw core::Error("tofcompd at " + path_ + " sent a line longer than " +
                           std::to_string(kClientMaxLineBytes) + " bytes");
@@ -195,19 +210,43 @@ std::optional<std::string> SocketClient::read_line(Duration timeout) {
   }
 }
 
-std::optional<nlohmann::json> SocketClient::read_message(Duration timeout) {
-  if (!kept_.empty()) {
-    nlohmann::json message = std::move(kept_.front());
-    kept_.pop_front();
-    return message;
-  }
-  const auto line = read_line(timeout);
-  if (!line) return std::nullopt;
+Message SocketClient::parse(Unit unit) const {
+  if (unit.frame) return Message{nullptr, std::move(unit.bytes)};
   try {
-    return nlohmann::json::parse(*line);
+    return Message{nlohmann::json::parse(unit.bytes), {}};
   } catch (const nlohmann::json::exception& e) {
     throw core::Error("tofcompd at " + path_ + " sent a line that is not JSON: " + e.what());
   }
+}
+
+std::optional<std::string> SocketClient::read_line(Duration timeout) {
+  auto unit = read_unit(timeout);
+  if (!unit) return std::nullopt;
+  if (unit->frame) {
+    throw core::Error("tofcompd at " + path_ + " sent a compact frame where a line was expected");
+  }
+  return std::move(unit->bytes);
+}
+
+std::optional<Message> SocketClient::read_any(Duration timeout) {
+  if (!kept_.empty()) {
+    Message message = std::move(kept_.front());
+    kept_.pop_front();
+    return message;
+  }
+  auto unit = read_unit(timeout);
+  if (!unit) return std::nullopt;
+  return parse(std::move(*unit));
+}
+
+std::optional<nlohmann::json> SocketClient::read_message(Duration timeout) {
+  auto message = read_any(timeout);
+  if (!message) return std::nullopt;
+  if (message->is_frame()) {
+    throw core::Error("tofcompd at " + path_ +
+                      " sent a compact frame where a JSON line was expected");
+  }
+  return std::move(message->json);
 }
 
 nlohmann::json SocketClient::request(nlohmann::json request, Duration timeout) {
@@ -216,30 +255,25 @@ nlohmann::json SocketClient::request(nlohmann::json request, Duration timeout) {
   const nlohmann::json id = request["id"];
   send_line(request.dump(), timeout);
   const auto deadline = Clock::now() + timeout;
-  std::deque<nlohmann::json> passed;
+  std::deque<Message> passed;
   for (;;) {
     const auto left = std::chrono::duration_cast<Duration>(deadline - Clock::now());
-    std::optional<nlohmann::json> message;
     // Messages kept earlier are not this request's reply: read from the socket.
-    if (auto line = read_line(std::max(left, Duration(0)))) {
-      try {
-        message = nlohmann::json::parse(*line);
-      } catch (const nlohmann::json::exception& e) {
-        throw core::Error("tofcompd at " + path_ + " sent a line that is not JSON: " + e.what());
-      }
-    }
-    if (!message) {
+    auto unit = read_unit(std::max(left, Duration(0)));
+    if (!unit) {
       for (auto& m : passed) kept_.push_back(std::move(m));
-      throw core::Error("no reply to " + describe(request) + " from tofcompd at " + path_ +
+      throw SocketTimeout("no reply to " + describe(request) + " from tofcompd at " + path_ +
                         " within " + std::to_string(timeout.count()) + " ms");
     }
-    const bool is_reply = message->is_object() && message->contains("ok");
-    const auto reply_id = is_reply ? message->find("id") : message->end();
-    if (is_reply && (reply_id == message->end() || *reply_id == id)) {
+    Message message = parse(std::move(*unit));
+    const nlohmann::json& json = message.json;
+    const bool is_reply = json.is_object() && json.contains("ok");
+    const auto reply_id = is_reply ? json.find("id") : json.end();
+    if (is_reply && (reply_id == json.end() || *reply_id == id)) {
       for (auto& m : passed) kept_.push_back(std::move(m));
-      return *message;
+      return std::move(message.json);
     }
-    passed.push_back(std::move(*message));
+    passed.push_back(std::move(message));
   }
 }
 

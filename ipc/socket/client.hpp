@@ -19,8 +19,22 @@ namespace tofcomp::ipc::socket {
 
 inline constexpr std::size_t kClientMaxLineBytes = 64u << 20;  // a line the client accepts
 
+// One message from the daemon: a JSON line (a reply or a scan event), or a compact scan frame
+// (ipc/socket/compact_frame.hpp) of a subscription with "format": "compact".
+struct Message {
+  nlohmann::json json;  // the line, parsed; null for a frame
+  std::string frame;    // the frame's bytes; empty for a line
+  bool is_frame() const { return !frame.empty(); }
+};
+
 // The daemon closed the connection (end of file or reset).
 class SocketClosed : public core::Error {
+ public:
+  using core::Error::Error;
+};
+
+// No answer, or no room to write, within the timeout.
+class SocketTimeout : public core::Error {
  public:
   using core::Error::Error;
 };
@@ -38,23 +52,28 @@ class SocketClient {
   SocketClient(const SocketClient&) = delete;
   SocketClient& operator=(const SocketClient&) = delete;
 
-  // Writes line and a '\n' (line must not contain one). Throws core::Error when the daemon
+  // Writes line and a '\n' (line must not contain one). Throws SocketTimeout when the daemon
   // does not take the bytes within timeout, SocketClosed when it has closed.
   void send_line(std::string_view line, Duration timeout = std::chrono::seconds(5));
   // Writes bytes as they are, no '\n' added: for tests of the framing.
   void send_bytes(std::string_view bytes, Duration timeout = std::chrono::seconds(5));
 
   // The next line without its '\n'; nullopt when none is complete within timeout. Throws
-  // SocketClosed at the end of the stream, core::Error for a line beyond kClientMaxLineBytes.
+  // SocketClosed at the end of the stream, core::Error for a line beyond kClientMaxLineBytes
+  // or a compact frame.
   std::optional<std::string> read_line(Duration timeout);
   // The next line parsed: a message kept aside by request() first. Throws core::Error when the
-  // line is not JSON.
+  // line is not JSON or a compact frame comes instead.
   std::optional<nlohmann::json> read_message(Duration timeout);
+  // The next message, line or compact frame: one kept aside by request() first. Throws
+  // core::Error when a line is not JSON or a frame's header is not valid (its length is
+  // checked before its bytes are awaited).
+  std::optional<Message> read_any(Duration timeout);
 
   // Sends request (an "id" is added when it has none) and returns the reply: the first reply
   // line carrying that id, or carrying no id (the daemon could not read it). Lines in between
   // (scan events, replies to earlier requests) are kept for read_message, in order. Throws
-  // core::Error when no reply comes within timeout.
+  // SocketTimeout when no reply comes within timeout.
   nlohmann::json request(nlohmann::json request, Duration timeout);
   // request(), then throws ProtocolError with the daemon's code and message when it answered
   // "ok": false.
@@ -68,10 +87,18 @@ class SocketClient {
   std::string path_;
   std::string buffer_;               // bytes read, not yet returned as lines
   std::size_t scanned_ = 0;          // bytes of buffer_ known to hold no '\n'
-  std::deque<nlohmann::json> kept_;  // messages request() read past
+  std::deque<Message> kept_;  // messages request() read past
   std::int64_t next_id_ = 1;
 
-  std::optional<std::string> take_line();
+  // A line or a frame as it arrived: the bytes of a line without its '\n', or of a frame.
+  struct Unit {
+    std::string bytes;
+    bool frame = false;
+  };
+  // The next whole unit in buffer_; nullopt when it is not complete yet.
+  std::optional<Unit> take_unit();
+  std::optional<Unit> read_unit(Duration timeout);
+  Message parse(Unit unit) const;
   void close_fd();
 };
 

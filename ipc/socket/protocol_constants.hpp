@@ -7,6 +7,11 @@
 
 namespace tofcomp::ipc::socket {
 
+// The protocol's version, which the hello reply states (docs/protocol.md, "hello"). A minor
+// version adds ops or fields and changes none; a client refuses a daemon whose major differs.
+inline constexpr int kProtocolVersionMajor = 1;
+inline constexpr int kProtocolVersionMinor = 0;
+
 inline constexpr const char* kDefaultSocketPath = "/run/tofcompd/tofcompd.sock";
 inline constexpr std::size_t kDefaultMaxRequestBytes = 4096;  // one request line, '\n' excluded
 inline constexpr std::size_t kMaxIdBytes = 256;               // a string id

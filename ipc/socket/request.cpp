@@ -21,15 +21,16 @@ struct OpSpec {
   std::vector<std::string_view> fields;  // besides id and op
 };
 
-const std::array<OpSpec, 7>& op_specs() {
-  static const std::array<OpSpec, 7> specs{{
+const std::array<OpSpec, 8>& op_specs() {
+  static const std::array<OpSpec, 8> specs{{
       {Op::Latest, "latest", {"beams"}},
-      {Op::Subscribe, "subscribe", {"beams", "every"}},
+      {Op::Subscribe, "subscribe", {"beams", "every", "format"}},
       {Op::Unsubscribe, "unsubscribe", {}},
       {Op::Status, "status", {}},
       {Op::Stats, "stats", {}},
       {Op::Reload, "reload", {}},
       {Op::Recalibrate, "recalibrate", {"args"}},
+      {Op::Hello, "hello", {}},
   }};
   return specs;
 }
@@ -106,6 +107,7 @@ class Parser {
     if (const auto it = doc_.find("every"); it != doc_.end()) {
       request_.every = read_integer(*it, "every", 1, kMaxEvery);
     }
+    if (const auto it = doc_.find("format"); it != doc_.end()) request_.format = read_format(*it);
     if (const auto it = doc_.find("args"); it != doc_.end()) {
       if (!it->is_object())
         fail(ErrorCode::BadRequest, "args: must be an object, not " + kind(*it));
@@ -158,10 +160,9 @@ class Parser {
         return;
       }
     }
-    fail(ErrorCode::UnknownOp,
-         "op: " + quote_input(name) +
-             " is not an op; the ops are latest, subscribe, unsubscribe, status, stats, reload, "
-             "recalibrate");
+    std::string ops;
+    for (const auto& spec : op_specs()) ops += (ops.empty() ? "" : ", ") + std::string(spec.name);
+    fail(ErrorCode::UnknownOp, "op: " + quote_input(name) + " is not an op; the ops are " + ops);
   }
 
   void check_fields() const {
@@ -194,6 +195,15 @@ class Parser {
                                   std::to_string(max));
   }
 
+  ScanFormat read_format(const json& v) const {
+    if (!v.is_string()) fail(ErrorCode::BadRequest, "format: must be a string, not " + kind(v));
+    for (const ScanFormat format : {ScanFormat::Json, ScanFormat::Compact}) {
+      if (v.get_ref<const std::string&>() == to_string(format)) return format;
+    }
+    fail(ErrorCode::BadRequest, "format: " + quote_input(v.get_ref<const std::string&>()) +
+                                    " is not a format; the formats are json, compact");
+  }
+
   BeamRange read_beams(const json& v) const {
     if (!v.is_array() || v.size() != 2) {
       fail(ErrorCode::BadRequest,
@@ -217,6 +227,10 @@ std::string_view to_string(Op op) {
     if (spec.op == op) return spec.name;
   }
   return "unknown";
+}
+
+std::string_view to_string(ScanFormat format) {
+  return format == ScanFormat::Compact ? "compact" : "json";
 }
 
 Request parse_request(std::string_view line, std::size_t max_bytes) {

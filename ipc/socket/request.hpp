@@ -13,9 +13,9 @@
 
 namespace tofcomp::ipc::socket {
 
-enum class Op { Latest, Subscribe, Unsubscribe, Status, Stats, Reload, Recalibrate };
+enum class Op { Latest, Subscribe, Unsubscribe, Status, Stats, Reload, Recalibrate, Hello };
 
-// The wire name: latest, subscribe, unsubscribe, status, stats, reload, recalibrate.
+// The wire name: latest, subscribe, unsubscribe, status, stats, reload, recalibrate, hello.
 std::string_view to_string(Op op);
 
 // An inclusive range of beam indices, first <= last.
@@ -25,11 +25,19 @@ struct BeamRange {
   bool operator==(const BeamRange&) const = default;
 };
 
+// How a subscription's scans are sent: JSON lines, or compact binary frames
+// (ipc/socket/compact_frame.hpp).
+enum class ScanFormat { Json, Compact };
+
+// The wire name: json, compact.
+std::string_view to_string(ScanFormat format);
+
 struct Request {
   Op op = Op::Status;
   std::optional<nlohmann::json> id;  // a string or an integer, echoed in the reply
   std::optional<BeamRange> beams;    // latest, subscribe: absent means every beam
   std::uint32_t every = 1;           // subscribe: scans whose sequence is a multiple of this
+  ScanFormat format = ScanFormat::Json;  // subscribe: how the scans are sent
   nlohmann::json args = nlohmann::json::object();  // recalibrate: passed to the daemon as is
 };
 

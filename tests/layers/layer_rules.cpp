@@ -13,12 +13,14 @@ const LayerRules& project_rules() {
       {"calibration", {"core", "io", "calibration"}},
       {"hal", {"core", "hal"}},
       {"ipc", {"core", "ipc"}},
+      {"client", {"core", "ipc", "client"}},
       {"sim", {"core", "io", "hal", "sim"}},
       {"realtime", {"core", "io", "calibration", "ipc", "realtime"}},
       {"settings", {"core", "io", "hal", "ipc", "sim", "realtime", "settings"}},
       {"daemon",
        {"core", "io", "calibration", "hal", "ipc", "sim", "realtime", "settings", "daemon"}},
-      {"cli", {"core", "io", "calibration", "hal", "ipc", "sim", "realtime", "settings", "cli"}},
+      {"cli",
+       {"core", "io", "calibration", "hal", "ipc", "client", "sim", "realtime", "settings", "cli"}},
   };
   return kRules;
 }

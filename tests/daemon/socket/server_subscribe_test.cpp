@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "ipc/socket/client.hpp"
+#include "ipc/socket/compact_frame.hpp"
 #include "ipc/socket/subscription.hpp"
 #include "tests/daemon/socket/server_harness.hpp"
 
@@ -40,8 +41,8 @@ TEST(ServerSubscribe, HundredScansArriveInOrderWithValuesRangesAndDecimation) {
   ScanSubscription every(every_client, std::nullopt, 1, kTimeout);
   ScanSubscription twin(twin_client, std::nullopt, 1, kTimeout);
   ScanSubscription decimated(decimated_client, BeamRange{2, 4}, 3, kTimeout);
-  EXPECT_EQ(every.acknowledged(), json::parse(R"({"beams":null,"every":1})"));
-  EXPECT_EQ(decimated.acknowledged(), json::parse(R"({"beams":[2,4],"every":3})"));
+  EXPECT_EQ(every.acknowledged(), json::parse(R"({"beams":null,"every":1,"format":"json"})"));
+  EXPECT_EQ(decimated.acknowledged(), json::parse(R"({"beams":[2,4],"every":3,"format":"json"})"));
   EXPECT_EQ(h.counters().subscribers, 3u);
 
   for (std::uint64_t seq = 0; seq < 100; ++seq) h.publish(make_scan(seq));
@@ -68,6 +69,34 @@ TEST(ServerSubscribe, HundredScansArriveInOrderWithValuesRangesAndDecimation) {
   EXPECT_EQ(c.scans_published, 100u);
   // Full range: one encoding per scan for both subscribers; beams 2..4: one per third scan.
   EXPECT_EQ(c.scan_encodings, 100u + 34u);
+}
+
+// A compact subscriber and a JSON one of the same beams: frames interleaved with a reply, each
+// frame the scan's compensated ranges and flags; one encoding per scan for each format.
+TEST(ServerSubscribe, CompactFramesCarryTheScansBesideJsonLines) {
+  SocketHarness h(roomy());
+  h.start_server();
+  SocketClient compact(h.path(), kTimeout);
+  SocketClient lines(h.path(), kTimeout);
+  const json ack = compact.call(
+      json{{"op", "subscribe"}, {"beams", {10, 12}}, {"format", "compact"}}, kTimeout);
+  EXPECT_EQ(ack["subscription"], json::parse(R"({"beams":[10,12],"every":1,"format":"compact"})"));
+  ScanSubscription as_json(lines, BeamRange{10, 12}, 1, kTimeout);
+  for (std::uint64_t seq = 0; seq < 5; ++seq) h.publish(make_scan(seq));
+  // A request while frames are queued: its reply is a line among the frames.
+  EXPECT_TRUE(compact.call(json{{"op", "hello"}}, kTimeout)["hello"]["protocol_major"] == 1);
+  for (std::uint64_t seq = 0; seq < 5; ++seq) {
+    auto message = compact.read_any(kTimeout);
+    ASSERT_TRUE(message.has_value());
+    ASSERT_TRUE(message->is_frame());
+    const auto frame = ipc::socket::decode_compact_frame(message->frame);
+    EXPECT_EQ(frame.scan.sequence, seq);
+    EXPECT_EQ(frame.span, (ipc::socket::BeamSpan{10, 3}));
+    EXPECT_EQ(frame.scan.beams[12].compensated_mm,
+              static_cast<float>(raw_of(seq, 12) - 12.5));
+    EXPECT_EQ(next_scan(as_json)["sequence"], seq);
+  }
+  EXPECT_EQ(h.counters().scan_encodings, 5u * 2u);
 }
 
 TEST(ServerSubscribe, NothingArrivesAfterTheUnsubscribeReply) {

@@ -35,6 +35,12 @@ TEST(RequestParse, SubscribeDefaultsToEveryScan) {
   EXPECT_EQ(parse_request(R"({"op":"subscribe"})").every, 1u);
 }
 
+TEST(RequestParse, SubscribeFormatDefaultsToJsonAndTakesCompact) {
+  EXPECT_EQ(parse_request(R"({"op":"subscribe"})").format, ScanFormat::Json);
+  EXPECT_EQ(parse_request(R"({"op":"subscribe","format":"json"})").format, ScanFormat::Json);
+  EXPECT_EQ(parse_request(R"({"op":"subscribe","format":"compact"})").format, ScanFormat::Compact);
+}
+
 TEST(RequestParse, SingleBeamAndTheLimitsOfEachFieldAreAccepted) {
   EXPECT_EQ(*parse_request(R"({"op":"latest","beams":[180,180]})").beams, (BeamRange{180, 180}));
   EXPECT_EQ(*parse_request(R"({"op":"latest","beams":[0,65535]})").beams, (BeamRange{0, 65535}));
@@ -49,8 +55,9 @@ TEST(RequestParse, EveryOpByName) {
   EXPECT_EQ(parse_request(R"({"op":"stats"})").op, Op::Stats);
   EXPECT_EQ(parse_request(R"({"op":"reload"})").op, Op::Reload);
   EXPECT_EQ(parse_request(R"({"op":"recalibrate"})").op, Op::Recalibrate);
+  EXPECT_EQ(parse_request(R"({"op":"hello"})").op, Op::Hello);
   for (const Op op : {Op::Latest, Op::Subscribe, Op::Unsubscribe, Op::Status, Op::Stats, Op::Reload,
-                      Op::Recalibrate}) {
+                      Op::Recalibrate, Op::Hello}) {
     const std::string line = R"({"op":")" + std::string(to_string(op)) + R"("})";
     EXPECT_EQ(parse_request(line).op, op) << line;
   }
