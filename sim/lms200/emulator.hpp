@@ -81,6 +81,10 @@ struct SentScan {
   const std::vector<RangeReading>* readings = nullptr;  // valid during the callback only
   hal::lms2xx::Units units = hal::lms2xx::Units::Millimetre;
   LinkFault fault = LinkFault::None;
+  // The true time of beam 0's ray. The emulated device measures the scan's last ray as its
+  // telegram starts on the line, and paces the bytes at the line's rate (at time_scale 1), as the
+  // LMS 2xx does; the sweep before it follows the variant (hal/lms2xx/scan_timing.hpp).
+  std::chrono::system_clock::time_point first_ray;
 };
 
 struct EmulatorCounters {

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "hal/lms2xx/scan_timing.hpp"
 
 namespace tofcomp::sim::lms200 {
 
@@ -251,6 +252,8 @@ awaitable<void> PtyLink::writer() {
     if (fault != LinkFault::None && fault_observer) fault_observer(fault, Clock::now());
     if (is_scan) {
       SentScan sent;
+      sent.first_ray = std::chrono::system_clock::now() -
+                       hal::lms2xx::scan_sweep_duration(device_.variant());
       {
         std::lock_guard lock(mutex_);
         sent.sequence = counters_.scans_sent++;
@@ -275,18 +278,39 @@ awaitable<void> PtyLink::writer() {
       counters_.bytes_lost_to_rate_mismatch += item.bytes.size();
       continue;
     }
-    boost::system::error_code ec;
-    co_await asio::async_write(master_, asio::buffer(item.bytes),
-                               asio::redirect_error(use_awaitable, ec));
+    co_await send_on_line(item.bytes, pace);
     {
       std::lock_guard lock(mutex_);
       if (item.bytes.size() > 1) ++counters_.telegrams_sent;
     }
-    if (settings_.time_scale > 0.0) {
-      // The line carries 10 bits per byte (start, 8 data, stop).
-      const double line_s = 10.0 * static_cast<double>(item.bytes.size()) / device_.baud();
-      co_await wait(pace, wall_duration(line_s / settings_.time_scale));
-    }
+  }
+}
+
+awaitable<void> PtyLink::send_on_line(const std::vector<std::uint8_t>& bytes,
+                                      asio::steady_timer& pace) {
+  boost::system::error_code ec;
+  if (settings_.time_scale <= 0.0) {
+    co_await asio::async_write(master_, asio::buffer(bytes),
+                               asio::redirect_error(use_awaitable, ec));
+    co_return;
+  }
+  // As on a serial line, each byte reaches the host once its 10 bits have gone out: the bytes go
+  // in chunks of kLineChunk of line time, each written when its last byte would arrive, so the
+  // telegram's last byte arrives a whole line time after its first started.
+  const unsigned baud = device_.baud();
+  const std::size_t chunk_bytes = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::chrono::duration<double>(kLineChunk).count() * baud /
+                                  hal::lms2xx::kBitsPerLineByte));
+  const Clock::time_point start = Clock::now();
+  for (std::size_t sent = 0; sent < bytes.size() && !ec;) {
+    const std::size_t n = std::min(chunk_bytes, bytes.size() - sent);
+    const auto line_time = hal::lms2xx::line_transfer_time(sent + n, baud);
+    const auto due = start + wall_duration(std::chrono::duration<double>(line_time).count() /
+                                           settings_.time_scale);
+    co_await wait(pace, due - Clock::now());
+    co_await asio::async_write(master_, asio::buffer(bytes.data() + sent, n),
+                               asio::redirect_error(use_awaitable, ec));
+    sent += n;
   }
 }
 

@@ -30,6 +30,9 @@ namespace tofcomp::sim::lms200 {
 class PtyLink {
  public:
   using Clock = std::chrono::steady_clock;
+  // The line time of one chunk of a paced telegram (send_on_line): short enough that the host
+  // never takes the gap between chunks for the end of a telegram.
+  static constexpr std::chrono::milliseconds kLineChunk{2};
 
   // Throws core::InvalidInput for bad fault rates or a negative time scale.
   PtyLink(EmulatorSettings settings, std::unique_ptr<ScanSource> source);
@@ -100,6 +103,9 @@ class PtyLink {
   boost::asio::awaitable<void> wait(boost::asio::steady_timer& timer, Clock::duration d);
   boost::asio::awaitable<void> reader(std::uint64_t generation);
   boost::asio::awaitable<void> writer();
+  // Writes the bytes at the line's rate (time_scale > 0) or at once (0).
+  boost::asio::awaitable<void> send_on_line(const std::vector<std::uint8_t>& bytes,
+                                            boost::asio::steady_timer& pace);
   boost::asio::awaitable<void> restart();
   std::vector<std::uint8_t> draw_scan(std::vector<RangeReading>& readings, double& time_s);
 };
