@@ -252,8 +252,8 @@ awaitable<void> PtyLink::writer() {
     if (fault != LinkFault::None && fault_observer) fault_observer(fault, Clock::now());
     if (is_scan) {
       SentScan sent;
-      sent.first_ray = std::chrono::system_clock::now() -
-                       hal::lms2xx::scan_sweep_duration(device_.variant());
+      sent.first_ray =
+          std::chrono::system_clock::now() - hal::lms2xx::scan_sweep_duration(device_.variant());
       {
         std::lock_guard lock(mutex_);
         sent.sequence = counters_.scans_sent++;
@@ -278,7 +278,7 @@ awaitable<void> PtyLink::writer() {
       counters_.bytes_lost_to_rate_mismatch += item.bytes.size();
       continue;
     }
-    co_await send_on_line(item.bytes, pace);
+    co_await send_on_line(item.bytes, is_scan, pace);
     {
       std::lock_guard lock(mutex_);
       if (item.bytes.size() > 1) ++counters_.telegrams_sent;
@@ -286,7 +286,7 @@ awaitable<void> PtyLink::writer() {
   }
 }
 
-awaitable<void> PtyLink::send_on_line(const std::vector<std::uint8_t>& bytes,
+awaitable<void> PtyLink::send_on_line(const std::vector<std::uint8_t>& bytes, bool is_scan,
                                       asio::steady_timer& pace) {
   boost::system::error_code ec;
   if (settings_.time_scale <= 0.0) {
@@ -294,24 +294,26 @@ awaitable<void> PtyLink::send_on_line(const std::vector<std::uint8_t>& bytes,
                                asio::redirect_error(use_awaitable, ec));
     co_return;
   }
-  // As on a serial line, each byte reaches the host once its 10 bits have gone out: the bytes go
-  // in chunks of kLineChunk of line time, each written when its last byte would arrive, so the
-  // telegram's last byte arrives a whole line time after its first started.
-  const unsigned baud = device_.baud();
-  const std::size_t chunk_bytes = std::max<std::size_t>(
-      1, static_cast<std::size_t>(std::chrono::duration<double>(kLineChunk).count() * baud /
-                                  hal::lms2xx::kBitsPerLineByte));
-  const Clock::time_point start = Clock::now();
-  for (std::size_t sent = 0; sent < bytes.size() && !ec;) {
-    const std::size_t n = std::min(chunk_bytes, bytes.size() - sent);
-    const auto line_time = hal::lms2xx::line_transfer_time(sent + n, baud);
-    const auto due = start + wall_duration(std::chrono::duration<double>(line_time).count() /
-                                           settings_.time_scale);
-    co_await wait(pace, due - Clock::now());
-    co_await asio::async_write(master_, asio::buffer(bytes.data() + sent, n),
+  // The line carries 10 bits a byte: a telegram occupies it for its line time.
+  const auto line_time = wall_duration(
+      std::chrono::duration<double>(hal::lms2xx::line_transfer_time(bytes.size(), device_.baud()))
+          .count() /
+      settings_.time_scale);
+  if (is_scan) {
+    // A scan reaches the host, as over a real line, once its last byte has gone out, which is
+    // what the host's estimate of its rays' time counts back from (hal/lms2xx/scan_timing.hpp).
+    // It goes to the pty whole then: paced byte by byte, a pause of the emulator's thread on a
+    // busy machine would open a gap inside the telegram that the host rightly takes for a
+    // truncation, and a real line never pauses mid-telegram.
+    co_await wait(pace, line_time);
+    co_await asio::async_write(master_, asio::buffer(bytes),
                                asio::redirect_error(use_awaitable, ec));
-    sent += n;
+    co_return;
   }
+  // Answers go out at once and hold the line for their time after: the request/answer timing
+  // the host driver's timeouts are built on.
+  co_await asio::async_write(master_, asio::buffer(bytes), asio::redirect_error(use_awaitable, ec));
+  co_await wait(pace, line_time);
 }
 
 awaitable<void> PtyLink::restart() {

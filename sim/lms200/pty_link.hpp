@@ -30,9 +30,6 @@ namespace tofcomp::sim::lms200 {
 class PtyLink {
  public:
   using Clock = std::chrono::steady_clock;
-  // The line time of one chunk of a paced telegram (send_on_line): short enough that the host
-  // never takes the gap between chunks for the end of a telegram.
-  static constexpr std::chrono::milliseconds kLineChunk{2};
 
   // Throws core::InvalidInput for bad fault rates or a negative time scale.
   PtyLink(EmulatorSettings settings, std::unique_ptr<ScanSource> source);
@@ -103,8 +100,10 @@ class PtyLink {
   boost::asio::awaitable<void> wait(boost::asio::steady_timer& timer, Clock::duration d);
   boost::asio::awaitable<void> reader(std::uint64_t generation);
   boost::asio::awaitable<void> writer();
-  // Writes the bytes at the line's rate (time_scale > 0) or at once (0).
-  boost::asio::awaitable<void> send_on_line(const std::vector<std::uint8_t>& bytes,
+  // Puts bytes on the line: at time_scale 0 at once; else a scan when a line at the device's
+  // rate would have carried its last byte, anything else at once and then holding the line for
+  // its time.
+  boost::asio::awaitable<void> send_on_line(const std::vector<std::uint8_t>& bytes, bool is_scan,
                                             boost::asio::steady_timer& pace);
   boost::asio::awaitable<void> restart();
   std::vector<std::uint8_t> draw_scan(std::vector<RangeReading>& readings, double& time_s);
