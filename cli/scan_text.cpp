@@ -25,12 +25,21 @@ std::string joined_flag_names(std::uint16_t flags) {
   return text.empty() ? "-" : text;
 }
 
+// When the scan's first ray was measured, relative to its arrival (docs/protocol.md "Time").
+std::string first_ray_text(const ipc::CompensatedScan& scan) {
+  if (!scan.rays.known()) return "";
+  constexpr double kNanosecondsPerMillisecond = 1e6;
+  const double before_ms =
+      static_cast<double>(scan.timestamp_ns - scan.rays.first_ray_ns) / kNanosecondsPerMillisecond;
+  return " (first ray " + number(before_ms, "%.1f") + " ms before)";
+}
+
 }  // namespace
 
 std::string scan_text(const ipc::CompensatedScan& scan, ipc::socket::BeamSpan span) {
   std::string text =
       "scan " + std::to_string(scan.sequence) + " (device " + std::to_string(scan.device_sequence) +
-      ") at " + io::utc_timestamp(scan.timestamp_ns, 3) + "; junction " +
+      ") at " + io::utc_timestamp(scan.timestamp_ns, 3) + first_ray_text(scan) + "; junction " +
       number(scan.junction_c, "%.2f") + " ± " + number(scan.junction_std_c, "%.2f") + " °C, case " +
       number(scan.case_c, "%.2f") + " °C; calibration " + std::to_string(scan.calibration_id) +
       "; beams " +

@@ -12,6 +12,7 @@ realtime::RawScan to_raw_scan(const hal::lms2xx::HostScan& scan,
   raw.timestamp_ns =
       std::chrono::duration_cast<std::chrono::nanoseconds>(scan.received_wall.time_since_epoch())
           .count();
+  raw.rays = scan.rays;
   raw.start_angle_deg = variant.angle_deg == 100 ? 40.0 : 0.0;
   raw.resolution_deg = variant.resolution_centideg / 100.0;
   const auto& codes = scan.scan.distance_codes;

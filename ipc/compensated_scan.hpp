@@ -13,6 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/ray_timing.hpp"
+
 namespace tofcomp::ipc {
 
 inline constexpr int kMaxModes = 4;  // lasing modes carried per beam
@@ -62,6 +64,9 @@ struct CompensatedScan {
   std::uint64_t sequence = 0;         // the daemon's scan counter, from 0, no gaps
   std::uint64_t device_sequence = 0;  // the host driver's scan counter
   std::int64_t timestamp_ns = 0;      // host receive time, CLOCK_REALTIME, ns since the epoch
+  // When its rays were measured: beam 0's ray and the sweep (estimated back from the arrival,
+  // docs/protocol.md "Time"); unknown (interlaced_turns 0) for a recording's scans.
+  core::RayTiming rays;
   double junction_c = 0.0;            // t̂^j at the scan (Kalman filter, §3.3); NaN if none
   double junction_std_c = 0.0;
   double case_c = 0.0;               // latest accepted case reading; NaN if none

@@ -6,12 +6,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/ray_timing.hpp"
+
 namespace tofcomp::realtime {
 
 struct RawScan {
   std::uint64_t device_sequence = 0;  // the source's own scan counter
   double time_s = 0.0;                // the pipeline's clock (seconds since the daemon's start)
   std::int64_t timestamp_ns = 0;      // wall clock at arrival, for publication
+  core::RayTiming rays;               // when its rays were measured; unknown for a recording's
   double start_angle_deg = 0.0;
   double resolution_deg = 0.0;
   std::vector<double> ranges_mm;      // per beam; ignored where no_echo

@@ -106,6 +106,7 @@ ipc::CompensatedScan ScanCompensator::compensate(const RawScan& scan,
   out.sequence = sequence;
   out.device_sequence = scan.device_sequence;
   out.timestamp_ns = scan.timestamp_ns;
+  out.rays = scan.rays;
   out.start_angle_deg = scan.start_angle_deg;
   out.resolution_deg = scan.resolution_deg;
   out.calibration_id = calibration_id_;

@@ -121,8 +121,7 @@ void Lms2xxDriver::set_state(LinkState state, const std::string& why) {
 }
 
 std::chrono::steady_clock::duration Lms2xxDriver::line_time(std::size_t bytes) const {
-  return std::chrono::duration_cast<Clock::duration>(
-      std::chrono::duration<double>(10.0 * static_cast<double>(bytes) / port_baud_));
+  return std::chrono::duration_cast<Clock::duration>(line_transfer_time(bytes, port_baud_));
 }
 
 void Lms2xxDriver::open_port() {
@@ -235,8 +234,11 @@ awaitable<void> Lms2xxDriver::reader(std::uint64_t generation) {
       co_return;
     }
     const auto now = Clock::now();
+    const auto now_wall = std::chrono::system_clock::now();
     last_byte_ = now;
-    decoder_.feed(std::span(buffer.data(), n), [&](const DecoderEvent& e) { dispatch(e, now); });
+    last_byte_wall_ = now_wall;
+    decoder_.feed(std::span(buffer.data(), n),
+                  [&](const DecoderEvent& e) { dispatch(e, now, now_wall); });
     // A frame left incomplete is truncated if the line stays quiet this long.
     idle_timer_.expires_at(decoder_.pending_bytes() > 0
                                ? now + std::chrono::milliseconds(20) + line_time(32)
@@ -252,11 +254,13 @@ awaitable<void> Lms2xxDriver::idle_flusher() {
     if (ec) continue;  // re-armed by the reader
     idle_timer_.expires_at(Clock::time_point::max());
     const auto now = Clock::now();
-    decoder_.flush_idle([&](const DecoderEvent& e) { dispatch(e, now); });
+    // The bytes of what the flush finds arrived with the last read, not now.
+    decoder_.flush_idle([&](const DecoderEvent& e) { dispatch(e, now, last_byte_wall_); });
   }
 }
 
-void Lms2xxDriver::dispatch(const DecoderEvent& event, Clock::time_point when) {
+void Lms2xxDriver::dispatch(const DecoderEvent& event, Clock::time_point when,
+                            std::chrono::system_clock::time_point when_wall) {
   device_answered_ = true;
   if (event.kind != DecoderEvent::Kind::Telegram) {
     if (pending_) {
@@ -295,7 +299,9 @@ void Lms2xxDriver::dispatch(const DecoderEvent& event, Clock::time_point when) {
   }
   scan.sequence = counters_.scans++;
   scan.received = when;
-  scan.received_wall = std::chrono::system_clock::now();
+  scan.received_wall = when_wall;
+  scan.rays = estimate_ray_timing(when_wall, t.data.size() + kFrameOverheadBytes, port_baud_,
+                                  settings_.variant);
   scan.measuring_mode = settings_.measuring_mode;
   last_scan_ = when;
   if (on_scan_) on_scan_(scan);

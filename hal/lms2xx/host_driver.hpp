@@ -15,6 +15,7 @@
 #include "hal/lms2xx/commands.hpp"
 #include "hal/lms2xx/measuring_mode.hpp"
 #include "hal/lms2xx/scan_telegram.hpp"
+#include "hal/lms2xx/scan_timing.hpp"
 #include "hal/lms2xx/telegram_decoder.hpp"
 
 namespace tofcomp::hal::lms2xx {
@@ -56,7 +57,8 @@ struct DriverCounters {
 struct HostScan {
   std::uint64_t sequence = 0;                      // counts delivered scans from 0
   std::chrono::steady_clock::time_point received;  // when its last byte was read
-  std::chrono::system_clock::time_point received_wall;
+  std::chrono::system_clock::time_point received_wall;  // the same on the wall clock
+  core::RayTiming rays;  // when its rays were measured, estimated back from received_wall
   ScanTelegram scan;
   MeasuringMode measuring_mode = MeasuringMode::Range8m;
 };
@@ -113,6 +115,7 @@ class Lms2xxDriver {
   std::uint64_t reader_generation_ = 0;
   std::chrono::steady_clock::time_point last_scan_;
   std::chrono::steady_clock::time_point last_byte_;  // when the reader last got bytes
+  std::chrono::system_clock::time_point last_byte_wall_;  // the same on the wall clock
 
   boost::asio::awaitable<void> supervise();
   boost::asio::awaitable<void> reader(std::uint64_t generation);
@@ -129,7 +132,8 @@ class Lms2xxDriver {
   void close_port();
   void set_port_baud(unsigned baud);
   void set_state(LinkState state, const std::string& why);
-  void dispatch(const DecoderEvent& event, std::chrono::steady_clock::time_point when);
+  void dispatch(const DecoderEvent& event, std::chrono::steady_clock::time_point when,
+                std::chrono::system_clock::time_point when_wall);
   std::chrono::steady_clock::duration line_time(std::size_t bytes) const;
 };
 

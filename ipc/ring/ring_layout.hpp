@@ -1,7 +1,7 @@
 // The binary layout of the shared-memory ring through which tofcompd publishes each compensated
 // scan (docs/shm-ring.md is the reference for readers in other languages and must match this
 // file field by field). One header of 128 bytes, then slot_count slots of slot_size bytes each;
-// a slot is a slot header of 80 bytes followed by max_beams beam records of 56 bytes.
+// a slot is a slot header of 112 bytes followed by max_beams beam records of 56 bytes.
 // All integers and doubles are little-endian (the host's order; asserted below and recorded in
 // the header's endian_check). Fields marked "atomic" are read and written with atomic
 // operations; the others of the header never change once the magic is set.
@@ -23,7 +23,8 @@ static_assert(std::endian::native == std::endian::little,
 // "TOFCRING" in memory order: the 8 bytes at offset 0 of a tofcomp ring.
 inline constexpr std::array<char, 8> kRingMagicBytes{'T', 'O', 'F', 'C', 'R', 'I', 'N', 'G'};
 inline constexpr std::uint64_t kRingMagic = 0x474E495243464F54ull;  // the bytes above, as LE u64
-inline constexpr std::uint32_t kLayoutVersion = 1;
+// 2: the slot header carries the rays' timing (first_ray_ns .. interlaced_turns).
+inline constexpr std::uint32_t kLayoutVersion = 2;
 inline constexpr std::uint32_t kEndianCheck = 0x01020304u;  // bytes 04 03 02 01 on a LE host
 
 // Values of RingHeader::writer_state.
@@ -49,7 +50,7 @@ struct RingHeader {
   std::uint32_t slot_count;        // 24
   std::uint32_t max_beams;         // 28: beam records per slot
   std::uint32_t max_modes;         // 32: kMaxModes, the mode_posterior entries per beam
-  std::uint32_t slot_header_size;  // 36: sizeof(SlotHeader) = 80, offset of beam 0 in a slot
+  std::uint32_t slot_header_size;  // 36: sizeof(SlotHeader) = 112, offset of beam 0 in a slot
   std::uint32_t beam_record_size;  // 40: sizeof(BeamRecord) = 56
   std::int32_t writer_pid;         // 44: process id of the writer
   std::uint64_t generation;        // 48: unique per creation of the ring (see docs)
@@ -72,6 +73,11 @@ struct SlotHeader {
   double resolution_deg;          // 64
   std::uint32_t calibration_id;   // 72
   std::uint32_t beam_count;       // 76: beam records in use, <= max_beams
+  std::int64_t first_ray_ns;      // 80: CompensatedScan::rays (core/ray_timing.hpp)
+  double ray_interval_ns;         // 88
+  double turn_period_ns;          // 96
+  std::uint32_t interlaced_turns;  // 104: 0 when the timing is unknown
+  std::uint32_t reserved;          // 108: 0
 };
 
 struct BeamRecord {
@@ -108,7 +114,7 @@ static_assert(offsetof(RingHeader, reserved0) == 60);
 static_assert(offsetof(RingHeader, published) == 64);
 static_assert(offsetof(RingHeader, reserved1) == 72);
 
-static_assert(sizeof(SlotHeader) == 80);
+static_assert(sizeof(SlotHeader) == 112);
 static_assert(offsetof(SlotHeader, seq) == 0);
 static_assert(offsetof(SlotHeader, sequence) == 8);
 static_assert(offsetof(SlotHeader, device_sequence) == 16);
@@ -120,6 +126,11 @@ static_assert(offsetof(SlotHeader, start_angle_deg) == 56);
 static_assert(offsetof(SlotHeader, resolution_deg) == 64);
 static_assert(offsetof(SlotHeader, calibration_id) == 72);
 static_assert(offsetof(SlotHeader, beam_count) == 76);
+static_assert(offsetof(SlotHeader, first_ray_ns) == 80);
+static_assert(offsetof(SlotHeader, ray_interval_ns) == 88);
+static_assert(offsetof(SlotHeader, turn_period_ns) == 96);
+static_assert(offsetof(SlotHeader, interlaced_turns) == 104);
+static_assert(offsetof(SlotHeader, reserved) == 108);
 
 static_assert(sizeof(BeamRecord) == 56);
 static_assert(offsetof(BeamRecord, raw_mm) == 0);

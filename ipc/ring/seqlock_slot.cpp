@@ -88,6 +88,10 @@ void write_slot(std::byte* slot, std::uint64_t publish_index, const CompensatedS
   header.resolution_deg = scan.resolution_deg;
   header.calibration_id = scan.calibration_id;
   header.beam_count = static_cast<std::uint32_t>(scan.beams.size());
+  header.first_ray_ns = scan.rays.first_ray_ns;
+  header.ray_interval_ns = scan.rays.ray_interval_ns;
+  header.turn_period_ns = scan.rays.turn_period_ns;
+  header.interlaced_turns = scan.rays.interlaced_turns;
   store_words(slot + kSlotPayloadOffset,
               reinterpret_cast<const unsigned char*>(&header) + kSlotPayloadOffset,
               sizeof(SlotHeader) - kSlotPayloadOffset);
@@ -137,6 +141,8 @@ SlotRead read_slot(const std::byte* slot, std::uint64_t publish_index, std::uint
   out.start_angle_deg = header.start_angle_deg;
   out.resolution_deg = header.resolution_deg;
   out.calibration_id = header.calibration_id;
+  out.rays = {header.first_ray_ns, header.ray_interval_ns, header.turn_period_ns,
+              header.interlaced_turns};
   return SlotRead::kComplete;
 }
 

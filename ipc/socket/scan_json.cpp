@@ -15,6 +15,9 @@ namespace tofcomp::ipc::socket {
 
 namespace {
 
+// The most turns a scan interlaces (the LMS 2xx at 0.25°); more in a reply is malformed.
+constexpr std::uint32_t kMaxInterlacedTurns = 4;
+
 // Appends JSON text to a string; keys and names are the encoder's own (no escaping needed).
 class JsonText {
  public:
@@ -112,6 +115,25 @@ void encode_beam(JsonText& json, const ipc::BeamValue& beam, std::size_t index) 
   json.close('}');
 }
 
+// "rays": when the scan's rays were measured (core/ray_timing.hpp), null when unknown.
+void encode_rays(JsonText& json, const core::RayTiming& rays) {
+  json.key("rays");
+  if (!rays.known()) {
+    json.number(std::numeric_limits<double>::quiet_NaN());  // null
+    return;
+  }
+  json.open('{');
+  json.key("first_ray_ns");
+  json.integer(rays.first_ray_ns);
+  json.key("ray_interval_ns");
+  json.number(rays.ray_interval_ns);
+  json.key("turn_period_ns");
+  json.number(rays.turn_period_ns);
+  json.key("interlaced_turns");
+  json.integer(rays.interlaced_turns);
+  json.close('}');
+}
+
 }  // namespace
 
 BeamSpan beams_exactly(const std::optional<BeamRange>& wanted, std::size_t beam_count) {
@@ -150,6 +172,7 @@ std::string encode_scan(const ipc::CompensatedScan& scan, BeamSpan span) {
   json.integer(scan.device_sequence);
   json.key("timestamp_ns");
   json.integer(scan.timestamp_ns);
+  encode_rays(json, scan.rays);
   json.key("junction_c");
   json.number(scan.junction_c);
   json.key("junction_std_c");
@@ -184,6 +207,22 @@ double number_or_nan(const nlohmann::json& object, const char* key) {
   return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
 }
 
+// "rays" of a scan object; absent (an older daemon) or null: unknown.
+core::RayTiming decode_rays(const nlohmann::json& scan) {
+  core::RayTiming rays;
+  const auto found = scan.find("rays");
+  if (found == scan.end() || found->is_null()) return rays;
+  rays.first_ray_ns = found->at("first_ray_ns").get<std::int64_t>();
+  rays.ray_interval_ns = found->at("ray_interval_ns").get<double>();
+  rays.turn_period_ns = found->at("turn_period_ns").get<double>();
+  rays.interlaced_turns = found->at("interlaced_turns").get<std::uint32_t>();
+  if (rays.interlaced_turns > kMaxInterlacedTurns) {
+    throw core::InvalidInput("rays.interlaced_turns " + std::to_string(rays.interlaced_turns) +
+                             " is more than " + std::to_string(kMaxInterlacedTurns));
+  }
+  return rays;
+}
+
 ipc::BeamValue decode_beam(const nlohmann::json& object) {
   ipc::BeamValue beam;
   beam.raw_mm = number_or_nan(object, "raw_mm");
@@ -210,6 +249,7 @@ ReceivedScan decode_scan(const nlohmann::json& object) {
     s.sequence = object.at("sequence").get<std::uint64_t>();
     s.device_sequence = object.at("device_sequence").get<std::uint64_t>();
     s.timestamp_ns = object.at("timestamp_ns").get<std::int64_t>();
+    s.rays = decode_rays(object);
     s.junction_c = number_or_nan(object, "junction_c");
     s.junction_std_c = number_or_nan(object, "junction_std_c");
     s.case_c = number_or_nan(object, "case_c");

@@ -81,6 +81,11 @@ struct SentScan {
   const std::vector<RangeReading>* readings = nullptr;  // valid during the callback only
   hal::lms2xx::Units units = hal::lms2xx::Units::Millimetre;
   LinkFault fault = LinkFault::None;
+  // The true time of beam 0's ray. The emulated device measures the scan's last ray as its
+  // telegram starts on the line, and (at time_scale 1) the telegram reaches the host when the
+  // line at its rate would have carried its last byte, as with the LMS 2xx; the sweep before
+  // the last ray follows the variant (hal/lms2xx/scan_timing.hpp).
+  std::chrono::system_clock::time_point first_ray;
 };
 
 struct EmulatorCounters {

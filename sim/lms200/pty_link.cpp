@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "hal/lms2xx/scan_timing.hpp"
 
 namespace tofcomp::sim::lms200 {
 
@@ -251,6 +252,8 @@ awaitable<void> PtyLink::writer() {
     if (fault != LinkFault::None && fault_observer) fault_observer(fault, Clock::now());
     if (is_scan) {
       SentScan sent;
+      sent.first_ray =
+          std::chrono::system_clock::now() - hal::lms2xx::scan_sweep_duration(device_.variant());
       {
         std::lock_guard lock(mutex_);
         sent.sequence = counters_.scans_sent++;
@@ -275,19 +278,42 @@ awaitable<void> PtyLink::writer() {
       counters_.bytes_lost_to_rate_mismatch += item.bytes.size();
       continue;
     }
-    boost::system::error_code ec;
-    co_await asio::async_write(master_, asio::buffer(item.bytes),
-                               asio::redirect_error(use_awaitable, ec));
+    co_await send_on_line(item.bytes, is_scan, pace);
     {
       std::lock_guard lock(mutex_);
       if (item.bytes.size() > 1) ++counters_.telegrams_sent;
     }
-    if (settings_.time_scale > 0.0) {
-      // The line carries 10 bits per byte (start, 8 data, stop).
-      const double line_s = 10.0 * static_cast<double>(item.bytes.size()) / device_.baud();
-      co_await wait(pace, wall_duration(line_s / settings_.time_scale));
-    }
   }
+}
+
+awaitable<void> PtyLink::send_on_line(const std::vector<std::uint8_t>& bytes, bool is_scan,
+                                      asio::steady_timer& pace) {
+  boost::system::error_code ec;
+  if (settings_.time_scale <= 0.0) {
+    co_await asio::async_write(master_, asio::buffer(bytes),
+                               asio::redirect_error(use_awaitable, ec));
+    co_return;
+  }
+  // The line carries 10 bits a byte: a telegram occupies it for its line time.
+  const auto line_time = wall_duration(
+      std::chrono::duration<double>(hal::lms2xx::line_transfer_time(bytes.size(), device_.baud()))
+          .count() /
+      settings_.time_scale);
+  if (is_scan) {
+    // A scan reaches the host, as over a real line, once its last byte has gone out, which is
+    // what the host's estimate of its rays' time counts back from (hal/lms2xx/scan_timing.hpp).
+    // It goes to the pty whole then: paced byte by byte, a pause of the emulator's thread on a
+    // busy machine would open a gap inside the telegram that the host rightly takes for a
+    // truncation, and a real line never pauses mid-telegram.
+    co_await wait(pace, line_time);
+    co_await asio::async_write(master_, asio::buffer(bytes),
+                               asio::redirect_error(use_awaitable, ec));
+    co_return;
+  }
+  // Answers go out at once and hold the line for their time after: the request/answer timing
+  // the host driver's timeouts are built on.
+  co_await asio::async_write(master_, asio::buffer(bytes), asio::redirect_error(use_awaitable, ec));
+  co_await wait(pace, line_time);
 }
 
 awaitable<void> PtyLink::restart() {

@@ -100,6 +100,11 @@ class PtyLink {
   boost::asio::awaitable<void> wait(boost::asio::steady_timer& timer, Clock::duration d);
   boost::asio::awaitable<void> reader(std::uint64_t generation);
   boost::asio::awaitable<void> writer();
+  // Puts bytes on the line: at time_scale 0 at once; else a scan when a line at the device's
+  // rate would have carried its last byte, anything else at once and then holding the line for
+  // its time.
+  boost::asio::awaitable<void> send_on_line(const std::vector<std::uint8_t>& bytes, bool is_scan,
+                                            boost::asio::steady_timer& pace);
   boost::asio::awaitable<void> restart();
   std::vector<std::uint8_t> draw_scan(std::vector<RangeReading>& readings, double& time_s);
 };

@@ -49,6 +49,14 @@ TEST(ScanText, HeaderAndBeamsWrittenOutByHand) {
             "no_echo,uncalibrated\n");
 }
 
+TEST(ScanText, FirstRayShownBeforeTheArrivalWhenKnown) {
+  ipc::CompensatedScan s = two_beam_scan();
+  s.rays = {s.timestamp_ns - 34'603'704, 37037.0, 13333333.3, 2};
+  EXPECT_NE(scan_text(s, {180, 1}).find("at 2026-11-23T10:48:22.471Z (first ray 34.6 ms before); "
+                                        "junction"),
+            std::string::npos);
+}
+
 TEST(ScanText, NoBeamsShown) {
   const std::string text = scan_text(two_beam_scan(), {361, 0});
   EXPECT_NE(text.find("; beams none of 361\n"), std::string::npos);

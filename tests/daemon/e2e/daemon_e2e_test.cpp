@@ -76,6 +76,19 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   EXPECT_GE(latest->sequence, received.begin()->first);
   EXPECT_EQ(latest->beams.size(), 361u);  // the ring holds every beam
 
+  // Each scan carries when its rays were measured: a 0.5° scan interlaces two turns, and its
+  // first ray precedes the arrival by the line time of its 732 bytes at 500 kBd (14.64 ms) and
+  // its sweep (19.96 ms), docs/protocol.md "Time".
+  for (const auto& [sequence, scan] : received) {
+    ASSERT_TRUE(scan["rays"].is_object()) << scan.dump().substr(0, 300);
+    const double before_ms = static_cast<double>(scan["timestamp_ns"].get<std::int64_t>() -
+                                                 scan["rays"]["first_ray_ns"].get<std::int64_t>()) /
+                             1e6;
+    EXPECT_NEAR(before_ms, 14.64 + 19.963, 0.01) << sequence;
+    EXPECT_EQ(scan["rays"]["interlaced_turns"], 2);
+  }
+  EXPECT_EQ(latest->rays.interlaced_turns, 2u);
+
   // A client's status request while streaming.
   ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
   const nlohmann::json status = client.request({{"op", "status"}}, 10s);

@@ -42,6 +42,7 @@ struct SentRecord {
   std::vector<std::uint16_t> codes;
   emu::LinkFault fault;
   std::chrono::steady_clock::time_point when;
+  std::chrono::system_clock::time_point first_ray;  // the device's true time of beam 0's ray
 };
 
 struct StateRecord {
@@ -52,6 +53,7 @@ struct StateRecord {
 struct ReceivedRecord {
   std::vector<std::uint16_t> codes;
   std::chrono::steady_clock::time_point when;
+  core::RayTiming rays;  // the host's estimate
 };
 
 class LinkHarness {
@@ -63,8 +65,8 @@ class LinkHarness {
     if (configure) configure(emulator_);
     emulator_.on_scan_sent([this](const emu::SentScan& s) {
       std::lock_guard lock(mutex_);
-      sent_.push_back(
-          {expected_codes(*s.readings, s.units), s.fault, std::chrono::steady_clock::now()});
+      sent_.push_back({expected_codes(*s.readings, s.units), s.fault,
+                       std::chrono::steady_clock::now(), s.first_ray});
     });
     emulator_.on_fault([this](emu::LinkFault f, std::chrono::steady_clock::time_point t) {
       std::lock_guard lock(mutex_);
@@ -76,7 +78,7 @@ class LinkHarness {
         io_, driver_settings,
         [this](const lms::HostScan& scan) {
           std::lock_guard lock(mutex_);
-          received_.push_back({scan.scan.distance_codes, scan.received});
+          received_.push_back({scan.scan.distance_codes, scan.received, scan.rays});
           cv_.notify_all();
         },
         [this](lms::LinkState state, const std::string& why) {

@@ -45,10 +45,10 @@ TEST(RingHeaderValidation, WrongLayoutVersionIsNamed) {
   const ScopedRingName name("version");
   RingWriter writer(name, 2, 4);
   RawShm raw(name);
-  raw.put<std::uint32_t>(8, 2);
+  raw.put<std::uint32_t>(8, 1);  // a ring of the first layout, without the rays' timing
   const std::string message = open_error(name);
   expect_contains(message, "shm object '" + name.str() + "'");
-  expect_contains(message, "layout version is 2, this reader reads version 1");
+  expect_contains(message, "layout version is 1, this reader reads version 2");
 }
 
 TEST(RingHeaderValidation, WrongByteOrderIsNamed) {
@@ -63,12 +63,12 @@ TEST(RingHeaderValidation, InconsistentSizesAreNamed) {
   const ScopedRingName name("sizes");
   RingWriter writer(name, 2, 4);
   RawShm raw(name);
-  // 4 beams: 80 + 4 * 56 = 304, rounded to 320.
-  raw.put<std::uint32_t>(20, 321);
-  expect_contains(open_error(name), "slot_size (for max_beams 4) is 321, expected 320");
-  raw.put<std::uint32_t>(20, 320);
+  // 4 beams: 112 + 4 * 56 = 336, rounded to 384.
+  raw.put<std::uint32_t>(20, 385);
+  expect_contains(open_error(name), "slot_size (for max_beams 4) is 385, expected 384");
+  raw.put<std::uint32_t>(20, 384);
   raw.put<std::uint32_t>(24, 3);  // three slots do not fit in an object sized for two
-  expect_contains(open_error(name), "describes 1088 bytes (3 slots of 320)");
+  expect_contains(open_error(name), "describes 1280 bytes (3 slots of 384)");
   raw.put<std::uint32_t>(24, 2);
   raw.put<std::uint32_t>(40, 64);
   expect_contains(open_error(name), "beam_record_size is 64, expected 56");

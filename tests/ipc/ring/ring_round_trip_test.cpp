@@ -148,10 +148,10 @@ TEST(RingRoundTrip, BytesSitAtTheDocumentedOffsets) {
   RingWriter writer(name, 4, 8);
   for (std::uint64_t s = 0; s < 5; ++s) writer.publish(known_scan(s, 3));
   const RawShm raw(name);
-  // 80 + 8 * 56 = 528 bytes, rounded up to 576; 128 + 4 * 576 = 2432.
+  // 112 + 8 * 56 = 560 bytes, rounded up to 576; 128 + 4 * 576 = 2432.
   EXPECT_EQ(raw.size(), 2432u);
   EXPECT_EQ(std::memcmp(raw.bytes(), "TOFCRING", 8), 0);
-  EXPECT_EQ(raw.get<std::uint32_t>(8), 1u);
+  EXPECT_EQ(raw.get<std::uint32_t>(8), 2u);
   EXPECT_EQ(raw.bytes()[12], 0x04);
   EXPECT_EQ(raw.bytes()[15], 0x01);
   EXPECT_EQ(raw.get<std::uint32_t>(16), 128u);
@@ -159,7 +159,7 @@ TEST(RingRoundTrip, BytesSitAtTheDocumentedOffsets) {
   EXPECT_EQ(raw.get<std::uint32_t>(24), 4u);
   EXPECT_EQ(raw.get<std::uint32_t>(28), 8u);
   EXPECT_EQ(raw.get<std::uint32_t>(32), 4u);
-  EXPECT_EQ(raw.get<std::uint32_t>(36), 80u);
+  EXPECT_EQ(raw.get<std::uint32_t>(36), 112u);
   EXPECT_EQ(raw.get<std::uint32_t>(40), 56u);
   EXPECT_EQ(raw.get<std::int32_t>(44), static_cast<std::int32_t>(::getpid()));
   EXPECT_EQ(raw.get<std::uint64_t>(48), writer.generation());
@@ -176,7 +176,13 @@ TEST(RingRoundTrip, BytesSitAtTheDocumentedOffsets) {
   EXPECT_EQ(raw.get<double>(slot0 + 32), 25.0 + 0.25 * 4);    // junction_c
   EXPECT_EQ(raw.get<std::uint32_t>(slot0 + 72), 4u);          // calibration_id
   EXPECT_EQ(raw.get<std::uint32_t>(slot0 + 76), 3u);          // beam_count
-  const std::size_t beam2 = slot0 + 80 + 2 * 56;
+  const CompensatedScan published4 = known_scan(4, 3);
+  EXPECT_EQ(raw.get<std::int64_t>(slot0 + 80), published4.rays.first_ray_ns);
+  EXPECT_EQ(raw.get<double>(slot0 + 88), published4.rays.ray_interval_ns);
+  EXPECT_EQ(raw.get<double>(slot0 + 96), published4.rays.turn_period_ns);
+  EXPECT_EQ(raw.get<std::uint32_t>(slot0 + 104), 2u);  // interlaced_turns
+  EXPECT_EQ(raw.get<std::uint32_t>(slot0 + 108), 0u);  // reserved
+  const std::size_t beam2 = slot0 + 112 + 2 * 56;
   EXPECT_EQ(raw.get<double>(beam2), 400002.0);        // raw_mm
   EXPECT_EQ(raw.get<double>(beam2 + 8), 400001.5);    // compensated_mm
   EXPECT_EQ(raw.get<double>(beam2 + 16), 400001.75);  // window_mm

@@ -54,6 +54,7 @@ inline CompensatedScan known_scan(std::uint64_t sequence, std::size_t beam_count
   scan.start_angle_deg = -0.5 * static_cast<double>(sequence % 4);
   scan.resolution_deg = 0.5;
   scan.calibration_id = static_cast<std::uint32_t>(sequence % 97);
+  scan.rays = {scan.timestamp_ns - 34'603'704, 37037.037037037036, 13333333.333333334, 2};
   scan.beams.resize(beam_count);
   for (std::size_t b = 0; b < beam_count; ++b) {
     BeamValue& v = scan.beams[b];
@@ -85,11 +86,19 @@ inline std::string difference(const CompensatedScan& got, const CompensatedScan&
   if (got.device_sequence != want.device_sequence) return "device_sequence differs";
   if (got.timestamp_ns != want.timestamp_ns) return "timestamp_ns differs";
   if (got.calibration_id != want.calibration_id) return "calibration_id differs";
+  if (got.rays.first_ray_ns != want.rays.first_ray_ns) return "rays.first_ray_ns differs";
+  if (got.rays.interlaced_turns != want.rays.interlaced_turns) {
+    return "rays.interlaced_turns differs";
+  }
   for (const std::string& d : {scalar("junction_c", got.junction_c, want.junction_c),
                                scalar("junction_std_c", got.junction_std_c, want.junction_std_c),
                                scalar("case_c", got.case_c, want.case_c),
                                scalar("start_angle_deg", got.start_angle_deg, want.start_angle_deg),
-                               scalar("resolution_deg", got.resolution_deg, want.resolution_deg)}) {
+                               scalar("resolution_deg", got.resolution_deg, want.resolution_deg),
+                               scalar("rays.ray_interval_ns", got.rays.ray_interval_ns,
+                                      want.rays.ray_interval_ns),
+                               scalar("rays.turn_period_ns", got.rays.turn_period_ns,
+                                      want.rays.turn_period_ns)}) {
     if (!d.empty()) return d;
   }
   if (got.beams.size() != want.beams.size()) {

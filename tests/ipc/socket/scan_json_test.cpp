@@ -51,7 +51,7 @@ CompensatedScan known_scan() {
 
 TEST(ScanJson, KnownScanByteForByte) {
   const std::string expected =
-      R"({"sequence":12,"device_sequence":10,"timestamp_ns":1700000000123456789,)"
+      R"({"sequence":12,"device_sequence":10,"timestamp_ns":1700000000123456789,"rays":null,)"
       R"("junction_c":41.5,"junction_std_c":0.25,"case_c":null,"start_angle_deg":0,)"
       R"("resolution_deg":0.5,"calibration_id":3,"beam_count":3,"first_beam":0,"beams":[)"
       R"({"index":0,"raw_mm":2000,"compensated_mm":1987.125,"window_mm":1987.5,)"
@@ -121,6 +121,30 @@ TEST(ScanJson, DecodedScanIsTheEncodedOneWithNullAsNaN) {
   EXPECT_EQ(third.mode_count, 3);
   EXPECT_EQ(third.most_probable_mode, 2);
   EXPECT_EQ(third.mode_posterior, (std::array<float, kMaxModes>{0.1f, 0.2f, 0.7f, 0.0f}));
+}
+
+TEST(ScanJson, RaysTimingRoundTripsAndUnknownIsNull) {
+  CompensatedScan s = known_scan();
+  s.rays = {1700000000088852085, 37037.037037037036, 13333333.333333334, 2};
+  const auto doc = nlohmann::json::parse(encode_scan(s, {0, 1}));
+  EXPECT_EQ(doc["rays"]["first_ray_ns"].get<std::int64_t>(), 1700000000088852085);
+  EXPECT_EQ(doc["rays"]["interlaced_turns"], 2);
+  const ReceivedScan r = decode_scan(doc);
+  EXPECT_EQ(r.scan.rays.first_ray_ns, s.rays.first_ray_ns);
+  EXPECT_EQ(r.scan.rays.ray_interval_ns, s.rays.ray_interval_ns);
+  EXPECT_EQ(r.scan.rays.turn_period_ns, s.rays.turn_period_ns);
+  EXPECT_EQ(r.scan.rays.interlaced_turns, 2u);
+  // Unknown (a recording's scans): null, and read back as unknown; so is an older daemon's scan
+  // without the member.
+  auto unknown = nlohmann::json::parse(encode_scan(known_scan(), {0, 1}));
+  EXPECT_TRUE(unknown["rays"].is_null());
+  EXPECT_FALSE(decode_scan(unknown).scan.rays.known());
+  unknown.erase("rays");
+  EXPECT_FALSE(decode_scan(unknown).scan.rays.known());
+  // More interlaced turns than any LMS 2xx takes is a malformed scan.
+  auto malformed = doc;
+  malformed["rays"]["interlaced_turns"] = 1000;
+  EXPECT_THROW(decode_scan(malformed), core::InvalidInput);
 }
 
 TEST(ScanJson, DecodingWhatIsNoScanObjectIsAnError) {
