@@ -3,6 +3,7 @@
 Usage: python3 bench/scan_bytes.py SOCKET"""
 import json, socket, struct, sys
 SCANS = 40
+HEADER_BYTES = 128  # a compact frame's header (docs/protocol.md)
 def bytes_per_scan(fmt):
     s = socket.socket(socket.AF_UNIX); s.connect(sys.argv[1]); f = s.makefile("rb")
     s.sendall(json.dumps({"op": "subscribe", "format": fmt}).encode() + b"\n")
@@ -12,9 +13,9 @@ def bytes_per_scan(fmt):
         if fmt == "json":
             total += len(f.readline())
         else:
-            header = f.read(96)
+            header = f.read(HEADER_BYTES)
             size = struct.unpack_from("<I", header, 8)[0]
-            f.read(size - 96)
+            f.read(size - HEADER_BYTES)
             total += size
     return total / SCANS
 for fmt in ("json", "compact"):

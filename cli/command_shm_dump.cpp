@@ -15,10 +15,11 @@
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
 #include "cli/scan_text.hpp"
+#include "cli/stream_output.hpp"
 #include "core/error.hpp"
+#include "ipc/instance_name.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/socket/scan_json.hpp"
-#include "ipc/instance_name.hpp"
 #include "ipc/user_name.hpp"
 
 namespace tofcomp::cli {
@@ -51,6 +52,10 @@ std::vector<uid_t> owner_uids(const std::vector<std::string>& owners) {
   }
   return uids;
 }
+
+// How often --follow looks for new scans when the ring has none (the LMS 200 publishes every
+// 13.3 ms at most).
+constexpr std::chrono::milliseconds kFollowPoll{2};
 
 // SIGINT and SIGTERM set a flag (restoring the previous handlers when done), so that --follow
 // ends its loop and the scans printed so far are summarised.
@@ -150,22 +155,23 @@ CommandResult dump_newest(ring::RingReader& reader, const ShmDumpOptions& o,
   return result;
 }
 
-// --follow: text goes out scan by scan; JSON is one document, printed when the command ends.
+// --follow: each scan goes out as it is read, text or with --json one scan object per line (as
+// `tofcomp query subscribe --json` streams them); at the end the summary, as text or as a last
+// JSON line. A reader that goes away (`| head`) ends it with status 0, as SIGINT and SIGTERM do.
 CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o,
                      const std::optional<ipc::socket::BeamRange>& range,
                      const CommonOptions& common) {
   const StopOnSignal stop;
+  ::signal(SIGPIPE, SIG_IGN);  // a closed pipe is then EPIPE from the write
   CommandResult result;
-  result.json["ring"] = ring_json(reader);
-  result.json["scans"] = nlohmann::json::array();
-  if (!common.json) {
-    std::fputs(ring_text(reader).c_str(), stdout);
-    std::fflush(stdout);
-  }
+  result.streamed = true;
+  nlohmann::json summary;
+  summary["ring"] = ring_json(reader);
+  bool reader_gone = !common.json && !write_stream_line(ring_text(reader));
   const auto limit = o.count > 0 ? static_cast<std::uint64_t>(o.count) : ~std::uint64_t{0};
   std::uint64_t printed = 0;
   bool told_writer_gone = false;
-  while (printed < limit && !stop.requested()) {
+  while (printed < limit && !stop.requested() && !reader_gone) {
     const ring::ReadBatch batch = reader.read_new(static_cast<std::size_t>(limit - printed));
     if (batch.writer_restarted) {
       told_writer_gone = false;
@@ -189,21 +195,26 @@ CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o,
                    static_cast<unsigned long long>(batch.lost));
     }
     for (const auto& scan : batch.scans) {
-      if (common.json) {
-        result.json["scans"].push_back(scan_json(scan, range));
-      } else {
-        std::fputs(scan_text(scan, span_of(scan, range)).c_str(), stdout);
+      const std::string line = common.json ? nlohmann::json{{"scan", scan_json(scan, range)}}.dump()
+                                           : scan_text(scan, span_of(scan, range));
+      if (!write_stream_line(common.json ? line + "\n" : line)) {
+        reader_gone = true;
+        break;
       }
       ++printed;
     }
-    std::fflush(stdout);
-    if (batch.scans.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (batch.scans.empty()) std::this_thread::sleep_for(kFollowPoll);
   }
+  if (reader_gone) return result;
   const ring::ReaderCounters& c = reader.counters();
-  result.json["scans_read"] = c.scans_read;
-  result.json["lost"] = c.lost;
-  result.json["torn_reads"] = c.torn_reads;
-  result.json["writer_restarts"] = c.writer_restarts;
+  summary["scans_read"] = c.scans_read;
+  summary["lost"] = c.lost;
+  summary["torn_reads"] = c.torn_reads;
+  summary["writer_restarts"] = c.writer_restarts;
+  if (common.json) {
+    write_stream_line(summary.dump() + "\n");
+    return result;
+  }
   char text[200];
   std::snprintf(text, sizeof text,
                 "%llu scans read, %llu lost, %llu torn reads discarded, %llu writer restarts\n",
@@ -211,7 +222,7 @@ CommandResult follow(ring::RingReader& reader, const ShmDumpOptions& o,
                 static_cast<unsigned long long>(c.lost),
                 static_cast<unsigned long long>(c.torn_reads),
                 static_cast<unsigned long long>(c.writer_restarts));
-  result.text = text;
+  write_stream_line(text);
   return result;
 }
 
@@ -235,7 +246,8 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
       "Print the compensated scans tofcompd publishes to its shared-memory ring: the newest, "
       "or with --follow each new one");
   auto o = std::make_shared<ShmDumpOptions>();
-  auto* name = cmd->add_option("name", o->name, "Name of the ring's shm object")->capture_default_str();
+  auto* name =
+      cmd->add_option("name", o->name, "Name of the ring's shm object")->capture_default_str();
   cmd->add_option("-i,--instance", o->instance,
                   "The ring of tofcompd instance NAME (tofcompd@NAME.service): /tofcompd-NAME")
       ->check([](const std::string& instance) { return ipc::instance_name_problem(instance); },

@@ -31,6 +31,10 @@ Scan public_scan(const ipc::CompensatedScan& scan, ipc::socket::BeamSpan span, s
   out.info.resolution_deg = scan.resolution_deg;
   out.info.calibration_id = scan.calibration_id;
   out.info.beam_count = static_cast<std::uint32_t>(scan.beams.size());
+  out.info.first_ray_ns = scan.rays.first_ray_ns;
+  out.info.ray_interval_ns = scan.rays.ray_interval_ns;
+  out.info.turn_period_ns = scan.rays.turn_period_ns;
+  out.info.interlaced_turns = scan.rays.interlaced_turns;
   out.beams.reserve(span.count);
   for (std::size_t i = span.first; i < span.first + span.count; ++i) {
     const ipc::BeamValue& value = scan.beams[i];

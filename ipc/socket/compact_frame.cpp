@@ -29,7 +29,15 @@ constexpr std::size_t kOffsetBeamCount = 80;
 constexpr std::size_t kOffsetFirstBeam = 84;
 constexpr std::size_t kOffsetCount = 88;
 constexpr std::size_t kOffsetReserved = 92;
-static_assert(kOffsetReserved + 4 == kCompactHeaderBytes);
+constexpr std::size_t kOffsetFirstRay = 96;  // the rays' timing (core/ray_timing.hpp)
+constexpr std::size_t kOffsetRayInterval = 104;
+constexpr std::size_t kOffsetTurnPeriod = 112;
+constexpr std::size_t kOffsetInterlacedTurns = 120;
+constexpr std::size_t kOffsetRaysReserved = 124;
+// The most turns a scan interlaces (the LMS 2xx at 0.25°); more is a malformed frame.
+constexpr std::uint32_t kMaxInterlacedTurns = 4;
+static_assert(kOffsetReserved + 4 == kOffsetFirstRay);
+static_assert(kOffsetRaysReserved + 4 == kCompactHeaderBytes);
 
 template <typename Unsigned>
 void put(std::string& out, std::size_t offset, Unsigned value) {
@@ -63,7 +71,8 @@ double get_f64(std::string_view in, std::size_t offset) {
 std::string encode_compact_frame(const ipc::CompensatedScan& scan, BeamSpan span) {
   const std::size_t size = kCompactHeaderBytes + span.count * kCompactBytesPerBeam;
   std::string out(size, '\0');
-  for (std::size_t i = 0; i < kCompactMagic.size(); ++i) out[i] = static_cast<char>(kCompactMagic[i]);
+  for (std::size_t i = 0; i < kCompactMagic.size(); ++i)
+    out[i] = static_cast<char>(kCompactMagic[i]);
   put(out, kOffsetVersion, kCompactFrameVersion);
   put(out, kOffsetHeaderBytes, static_cast<std::uint16_t>(kCompactHeaderBytes));
   put(out, kOffsetFrameBytes, static_cast<std::uint32_t>(size));
@@ -79,6 +88,10 @@ std::string encode_compact_frame(const ipc::CompensatedScan& scan, BeamSpan span
   put(out, kOffsetBeamCount, static_cast<std::uint32_t>(scan.beams.size()));
   put(out, kOffsetFirstBeam, static_cast<std::uint32_t>(span.first));
   put(out, kOffsetCount, static_cast<std::uint32_t>(span.count));
+  put(out, kOffsetFirstRay, static_cast<std::uint64_t>(scan.rays.first_ray_ns));
+  put_f64(out, kOffsetRayInterval, scan.rays.ray_interval_ns);
+  put_f64(out, kOffsetTurnPeriod, scan.rays.turn_period_ns);
+  put(out, kOffsetInterlacedTurns, scan.rays.interlaced_turns);
   const std::size_t flags_at = kCompactHeaderBytes + span.count * sizeof(float);
   for (std::size_t i = 0; i < span.count; ++i) {
     const BeamValue& beam = scan.beams[span.first + i];
@@ -120,10 +133,15 @@ std::size_t compact_frame_size(std::string_view header) {
     bad("beams " + std::to_string(first) + " + " + std::to_string(count) +
         " (offsets 84, 88) reach beyond the scan's " + std::to_string(beam_count));
   }
+  if (const auto turns = get<std::uint32_t>(header, kOffsetInterlacedTurns);
+      turns > kMaxInterlacedTurns) {
+    bad("interlaced_turns (offset 120) is " + std::to_string(turns) + ", more than " +
+        std::to_string(kMaxInterlacedTurns));
+  }
   const std::size_t size = kCompactHeaderBytes + std::size_t{count} * kCompactBytesPerBeam;
   if (const auto stated = get<std::uint32_t>(header, kOffsetFrameBytes); stated != size) {
-    bad("frame size (offset 8) is " + std::to_string(stated) + " bytes; " +
-        std::to_string(count) + " beams make " + std::to_string(size));
+    bad("frame size (offset 8) is " + std::to_string(stated) + " bytes; " + std::to_string(count) +
+        " beams make " + std::to_string(size));
   }
   return size;
 }
@@ -144,6 +162,10 @@ ReceivedScan decode_compact_frame(std::string_view frame) {
   scan.case_c = get_f64(frame, kOffsetCase);
   scan.start_angle_deg = get_f64(frame, kOffsetStartAngle);
   scan.resolution_deg = get_f64(frame, kOffsetResolution);
+  scan.rays.first_ray_ns = static_cast<std::int64_t>(get<std::uint64_t>(frame, kOffsetFirstRay));
+  scan.rays.ray_interval_ns = get_f64(frame, kOffsetRayInterval);
+  scan.rays.turn_period_ns = get_f64(frame, kOffsetTurnPeriod);
+  scan.rays.interlaced_turns = get<std::uint32_t>(frame, kOffsetInterlacedTurns);
   received.span.first = get<std::uint32_t>(frame, kOffsetFirstBeam);
   received.span.count = get<std::uint32_t>(frame, kOffsetCount);
   constexpr double kNotSent = std::numeric_limits<double>::quiet_NaN();

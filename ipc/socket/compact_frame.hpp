@@ -20,7 +20,7 @@ namespace tofcomp::ipc::socket {
 
 inline constexpr std::array<unsigned char, 4> kCompactMagic{0x89, 'T', 'C', 'S'};
 inline constexpr std::uint16_t kCompactFrameVersion = 1;
-inline constexpr std::size_t kCompactHeaderBytes = 96;
+inline constexpr std::size_t kCompactHeaderBytes = 128;
 inline constexpr std::size_t kCompactBytesPerBeam = 4 + 2;  // float32 range, uint16 flags
 // A scan has at most as many beams as beam indices go (0..kMaxBeamIndex).
 inline constexpr std::size_t kMaxCompactBeams = std::size_t{kMaxBeamIndex} + 1;

@@ -91,6 +91,9 @@ TEST_F(LiveDaemon, JsonAndCompactSubscriptionsCarryTheSameScans) {
     EXPECT_TRUE(compact.json.empty());
     EXPECT_FALSE(json.json.empty());
     EXPECT_EQ(compact.info.timestamp_ns, json.info.timestamp_ns);
+    EXPECT_EQ(compact.info.first_ray_ns, json.info.first_ray_ns);
+    EXPECT_EQ(compact.info.interlaced_turns, 2u);  // 0.5°: two turns
+    EXPECT_EQ(compact.info.turn_period_ns, json.info.turn_period_ns);
     EXPECT_EQ(compact.info.junction_c, json.info.junction_c);
     EXPECT_EQ(compact.info.beam_count, 361u);
     ASSERT_EQ(compact.beams.size(), 21u);
@@ -144,6 +147,7 @@ TEST_F(LiveDaemon, TheRingAndTheSocketHoldTheSameScan) {
   }
   ASSERT_TRUE(same.has_value()) << "sequence " << scan->info.sequence << " not met in the ring";
   ASSERT_EQ(same->beams.size(), scan->beams.size());
+  EXPECT_EQ(same->info.first_ray_ns, scan->info.first_ray_ns);
   for (std::size_t i = 0; i < scan->beams.size(); ++i) {
     EXPECT_TRUE(same_value(same->beams[i].raw_mm, scan->beams[i].raw_mm)) << i;
     EXPECT_TRUE(same_value(same->beams[i].compensated_mm, scan->beams[i].compensated_mm)) << i;
@@ -250,7 +254,7 @@ TEST(ClientCApi, FailuresReturnTheirStatusAndAMessage) {
             std::string::npos);
   tofcomp_scan* scan = nullptr;
   EXPECT_EQ(tofcomp_decode_compact("\x89TCS", 4, &scan), TOFCOMP_ERR_BAD_DATA);
-  EXPECT_NE(std::string(tofcomp_last_error()).find("fewer than the 96"), std::string::npos);
+  EXPECT_NE(std::string(tofcomp_last_error()).find("fewer than the 128"), std::string::npos);
   EXPECT_EQ(tofcomp_ring_open("/tofcomp-no-such-ring", nullptr), TOFCOMP_ERR_INVALID_ARGUMENT);
   tofcomp_ring* ring = nullptr;
   EXPECT_EQ(tofcomp_ring_open("/tofcomp-no-such-ring", &ring), TOFCOMP_ERR_RING);

@@ -93,6 +93,13 @@ class LiveDaemon(unittest.TestCase):
             for sequence in shared:
                 j, c = json_scans[sequence], compact_scans[sequence]
                 self.assertEqual(c.junction_c, j.junction_c)
+                # The rays' timing (docs/protocol.md "Time"): a 0.5° scan of the emulated
+                # LMS 200 interlaces two turns; both forms carry the same first ray.
+                self.assertEqual(c.first_ray_ns, j.first_ray_ns)
+                self.assertEqual(j.interlaced_turns, 2)
+                self.assertLess(j.first_ray_ns, j.timestamp_ns)
+                self.assertEqual(j.beam_time_ns(1) - j.beam_time_ns(0),
+                                 round(j.turn_period_ns))
                 self.assertEqual(len(c.beams), 21)
                 for jb, cb in zip(j.beams, c.beams):
                     self.assertEqual(cb.index, jb.index)
@@ -119,6 +126,7 @@ class LiveDaemon(unittest.TestCase):
                 return scan
             same = wait_for(ring_scan_of_sent, "the sent scan in the ring")
             self.assertEqual(same.sequence, sent.sequence)
+            self.assertEqual(same.first_ray_ns, sent.first_ray_ns)
             self.assertEqual(same.beams[180].raw_mm, sent.beams[0].raw_mm)
             self.assertEqual(same.beams[180].flags, sent.beams[0].flags)
             self.assertEqual(ring.latest().beam_count, 361)
@@ -141,7 +149,7 @@ class WithoutDaemon(unittest.TestCase):
         with self.assertRaises(tofcomp_client.Error) as failed:
             tofcomp_client.decode_compact(b"\x89TCS\x01\x00")
         self.assertEqual(failed.exception.kind, "bad_data")
-        self.assertIn("fewer than the 96", str(failed.exception))
+        self.assertIn("fewer than the 128", str(failed.exception))
 
 
 if __name__ == "__main__":

@@ -64,6 +64,14 @@ typedef struct tofcomp_scan_info {
   double resolution_deg;    /* angle step between beams */
   uint32_t calibration_id;  /* increments at each calibration swap; 0 = none */
   uint32_t beam_count;      /* beams in the scan (those carried: tofcomp_scan_beams) */
+  /* When the rays were measured (docs/protocol.md "Time"): beam i's ray comes
+   * (i mod n) * turn_period_ns + (i / n) * ray_interval_ns after first_ray_ns, n the interlaced
+   * turns; interlaced_turns 0: unknown (a recording's scans). */
+  int64_t first_ray_ns;      /* beam 0's ray, CLOCK_REALTIME, ns since the epoch */
+  double ray_interval_ns;    /* between consecutive rays of one mirror turn */
+  double turn_period_ns;     /* one mirror turn */
+  uint32_t interlaced_turns; /* turns one scan interlaces (1, 2 or 4); 0: unknown */
+  uint32_t reserved;         /* 0 */
 } tofcomp_scan_info;
 
 /* One beam. Distances in mm; a value that does not exist, or that a compact frame does not carry

@@ -1,5 +1,7 @@
 // Compact frames: the bytes at the offsets docs/protocol.md gives, a round trip of every value a
 // frame carries, and a refusal naming the field for each way a hostile frame can be wrong.
+#include "ipc/socket/compact_frame.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "ipc/socket/compact_frame.hpp"
 
 namespace tofcomp::ipc::socket {
 namespace {
@@ -24,6 +25,7 @@ CompensatedScan three_beam_scan() {
   scan.start_angle_deg = 0.0;
   scan.resolution_deg = 0.5;
   scan.calibration_id = 3;
+  scan.rays = {1700000000088852085, 37037.037037037036, 13333333.333333334, 2};
   scan.beams.resize(3);
   scan.beams[0].compensated_mm = 1988.25;
   scan.beams[1].compensated_mm = 2000.5;
@@ -39,11 +41,11 @@ unsigned byte(const std::string& frame, std::size_t offset) {
 
 TEST(CompactFrame, BytesLieAtTheDocumentedOffsetsLittleEndian) {
   const std::string frame = encode_compact_frame(three_beam_scan(), {1, 2});
-  ASSERT_EQ(frame.size(), 96u + 2 * 6);
+  ASSERT_EQ(frame.size(), 128u + 2 * 6);
   EXPECT_EQ(frame.substr(0, 4), std::string("\x89TCS"));
   EXPECT_EQ(byte(frame, 4), 1u);    // version 1
-  EXPECT_EQ(byte(frame, 6), 96u);   // header size
-  EXPECT_EQ(byte(frame, 8), 108u);  // frame size 96 + 12
+  EXPECT_EQ(byte(frame, 6), 128u);  // header size
+  EXPECT_EQ(byte(frame, 8), 140u);  // frame size 128 + 12
   EXPECT_EQ(byte(frame, 12), 3u);   // calibration id
   for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(byte(frame, 16 + i), 8 - i) << i;  // sequence
   EXPECT_EQ(byte(frame, 24), 9u);                                                  // device seq.
@@ -53,13 +55,20 @@ TEST(CompactFrame, BytesLieAtTheDocumentedOffsetsLittleEndian) {
   EXPECT_EQ(byte(frame, 80), 3u);  // beam_count
   EXPECT_EQ(byte(frame, 84), 1u);  // first_beam
   EXPECT_EQ(byte(frame, 88), 2u);  // count
+  std::int64_t first_ray = 0;
+  std::memcpy(&first_ray, frame.data() + 96, sizeof first_ray);
+  EXPECT_EQ(first_ray, three_beam_scan().rays.first_ray_ns);
+  double turn_period = 0;
+  std::memcpy(&turn_period, frame.data() + 112, sizeof turn_period);
+  EXPECT_EQ(turn_period, three_beam_scan().rays.turn_period_ns);
+  EXPECT_EQ(byte(frame, 120), 2u);  // interlaced_turns
   float range = 0;
-  std::memcpy(&range, frame.data() + 96, sizeof range);
+  std::memcpy(&range, frame.data() + 128, sizeof range);
   EXPECT_EQ(range, 2000.5f);
-  std::memcpy(&range, frame.data() + 100, sizeof range);
+  std::memcpy(&range, frame.data() + 132, sizeof range);
   EXPECT_TRUE(std::isnan(range));
-  EXPECT_EQ(byte(frame, 104), 24u);  // flags of beam 1: 8 | 16
-  EXPECT_EQ(byte(frame, 106), 1u);   // flags of beam 2: no_echo
+  EXPECT_EQ(byte(frame, 136), 24u);  // flags of beam 1: 8 | 16
+  EXPECT_EQ(byte(frame, 138), 1u);   // flags of beam 2: no_echo
 }
 
 TEST(CompactFrame, RoundTripKeepsTheHeaderAndTheSentBeams) {
@@ -74,6 +83,10 @@ TEST(CompactFrame, RoundTripKeepsTheHeaderAndTheSentBeams) {
   EXPECT_TRUE(std::isnan(back.scan.case_c));
   EXPECT_EQ(back.scan.resolution_deg, 0.5);
   EXPECT_EQ(back.scan.calibration_id, 3u);
+  EXPECT_EQ(back.scan.rays.first_ray_ns, scan.rays.first_ray_ns);
+  EXPECT_EQ(back.scan.rays.ray_interval_ns, scan.rays.ray_interval_ns);
+  EXPECT_EQ(back.scan.rays.turn_period_ns, scan.rays.turn_period_ns);
+  EXPECT_EQ(back.scan.rays.interlaced_turns, 2u);
   ASSERT_EQ(back.scan.beams.size(), 3u);
   EXPECT_EQ(back.scan.beams[0].compensated_mm, 1988.25);
   EXPECT_EQ(back.scan.beams[1].flags, kBeamWindowRestarting | kBeamChangeDetected);
@@ -102,7 +115,7 @@ void set_u32(std::string& frame, std::size_t offset, std::uint32_t value) {
 
 TEST(CompactFrame, HostileFramesAreRefusedNamingTheField) {
   const std::string good = encode_compact_frame(three_beam_scan(), {0, 3});
-  expect_refused(good.substr(0, 95), "fewer than the 96 of its header");
+  expect_refused(good.substr(0, 127), "fewer than the 128 of its header");
   expect_refused(good.substr(0, good.size() - 1), "bytes where its header says");
   expect_refused(good + "x", "bytes where its header says");
   std::string bad = good;
@@ -126,6 +139,9 @@ TEST(CompactFrame, HostileFramesAreRefusedNamingTheField) {
   bad = good;
   set_u32(bad, 88, 4);
   expect_refused(bad, "reach beyond the scan's 3");
+  bad = good;
+  set_u32(bad, 120, 1000);
+  expect_refused(bad, "interlaced_turns (offset 120) is 1000");
 }
 
 }  // namespace
