@@ -139,6 +139,19 @@ void Lms2xxDriver::open_port() {
   asio::co_spawn(io_, reader(++reader_generation_), asio::detached);
 }
 
+// The port failed (a hang-up, the device gone). Whichever sees it first reports it: the reader
+// (a read fails), a request (its write fails) or a rate change (tcsetattr fails with EIO). Which
+// one that is comes down to scheduling: a hang-up that lands after the reader's last read and
+// before the next request's write fails that write at once, while the reader would learn of it
+// only at the next poll of the port, after the driver has given up on the port and closed it.
+// Counted once per port opened, whichever of them saw it.
+void Lms2xxDriver::lose_link() {
+  if (!link_lost_) ++counters_.link_losses;
+  link_lost_ = true;
+  reply_wait_.cancel();
+  watch_timer_.cancel();
+}
+
 void Lms2xxDriver::close_port() {
   ++reader_generation_;
   boost::system::error_code ignored;
@@ -152,6 +165,9 @@ void Lms2xxDriver::set_port_baud(unsigned baud) {
   boost::system::error_code ec;
   port_.set_option(asio::serial_port_base::baud_rate(baud), ec);
   if (ec) {
+    // EIO is a hung-up line (every call on it fails so); another error is a rate this port
+    // cannot take, a fault of the settings, not of the link.
+    if (ec == boost::system::errc::io_error) lose_link();
     throw LinkError("cannot set " + std::to_string(baud) + " Bd on " + settings_.device + ": " +
                     ec.message());
   }
@@ -227,10 +243,7 @@ awaitable<void> Lms2xxDriver::reader(std::uint64_t generation) {
                                                          asio::redirect_error(use_awaitable, ec));
     if (generation != reader_generation_) co_return;
     if (ec) {
-      ++counters_.link_losses;
-      link_lost_ = true;
-      reply_wait_.cancel();
-      watch_timer_.cancel();
+      lose_link();
       co_return;
     }
     const auto now = Clock::now();
@@ -315,7 +328,7 @@ awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& r
   boost::system::error_code ec;
   co_await asio::async_write(port_, asio::buffer(bytes), asio::redirect_error(use_awaitable, ec));
   if (ec) {
-    link_lost_ = true;
+    lose_link();
     pending_.reset();
     throw LinkError("writing to " + settings_.device + " failed: " + ec.message());
   }

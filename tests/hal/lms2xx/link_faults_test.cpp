@@ -73,13 +73,17 @@ TEST(Lms2xxLinkUnderFaults, OneFaultPerHundredTelegrams) {
   // reset the host then finds), resets as device resets, hang-ups as link losses. Bytes the
   // device writes while the host has the port closed wait in the pty for the host's next open,
   // so only a hang-up can pass unseen: one that comes while the host has no port open (backing
-  // off after a failed bring-up) reaches no one, and is not asked for.
+  // off after a failed bring-up) reaches no one, and is not asked for. A hang-up is a link
+  // loss however the host meets it: the host's thread is often between its last read and its
+  // next request when the line drops (more often on a loaded machine), and then the request's
+  // write fails before the reader hears of it (3 of 171 in one run); a driver that counted only
+  // the reader's losses made this check fail now and then under load (170 of 171).
   // The device goes on injecting faults until stop(): one injected after the settle wait's
   // snapshot may have had no time to be seen, so the counts compared are those up to it.
   std::uint64_t unheard_hang_ups = 0;
   emu::InjectedFaults waited_out;
   for (const auto& [fault, when] : link.faults()) {
-    if (fault == emu::LinkFault::HangUp && !link.host_listening_at(when, 1ms)) ++unheard_hang_ups;
+    if (fault == emu::LinkFault::HangUp && !link.host_listening_at(when)) ++unheard_hang_ups;
     if (when > last_fault) continue;
     switch (fault) {
       case emu::LinkFault::Garbage: ++waited_out.garbage; break;
