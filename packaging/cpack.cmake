@@ -8,13 +8,15 @@
 #                                         the documentation, man page 1
 #   client      -> libtofcomp-client0     the client library (shared)
 #   client-dev  -> libtofcomp-client-dev  its headers, static library, pkg-config and CMake files
+#   python      -> python3-tofcomp-client the Python module over the shared library (Debian
+#                                         keeps Python modules out of library packages)
 # A component that no install rule fills is left out, so the list follows what the tree builds.
 # Built with `cpack --config build/CPackConfig.cmake -B DIR` (tests/install/packages_test.sh);
 # the binaries are stripped as they are packaged.
 # Included last by the top-level CMakeLists.txt, after every install rule.
 get_cmake_property(TOFCOMP_INSTALL_COMPONENTS COMPONENTS)
 set(TOFCOMP_PACKAGE_COMPONENTS)
-foreach(component daemon cli client client-dev)
+foreach(component daemon cli client client-dev python)
   if(component IN_LIST TOFCOMP_INSTALL_COMPONENTS)
     list(APPEND TOFCOMP_PACKAGE_COMPONENTS ${component})
   endif()
@@ -24,10 +26,12 @@ set(TOFCOMP_PACKAGE_daemon tofcompd)
 set(TOFCOMP_PACKAGE_cli tofcomp)
 set(TOFCOMP_PACKAGE_client libtofcomp-client0)
 set(TOFCOMP_PACKAGE_client-dev libtofcomp-client-dev)
+set(TOFCOMP_PACKAGE_python python3-tofcomp-client)
 set(TOFCOMP_SUMMARY_daemon "LiDAR temperature and mode-hopping compensation daemon")
 set(TOFCOMP_SUMMARY_cli "LiDAR temperature and mode-hopping compensation tools")
 set(TOFCOMP_SUMMARY_client "client library of the tofcompd LiDAR compensation daemon")
 set(TOFCOMP_SUMMARY_client-dev "client library of tofcompd: development files")
+set(TOFCOMP_SUMMARY_python "client library of tofcompd: Python 3 module")
 set(TOFCOMP_DESCRIPTION_daemon
   "tofcompd reads a SICK LMS 200 over its serial link and a thermometer on its
 case, compensates each range for the laser's junction temperature and lasing
@@ -41,6 +45,8 @@ set(TOFCOMP_DESCRIPTION_client
   "The library programs link to read compensated scans from tofcompd.")
 set(TOFCOMP_DESCRIPTION_client-dev
   "Headers, static library, pkg-config and CMake files of the tofcompd client library.")
+set(TOFCOMP_DESCRIPTION_python
+  "The module tofcomp_client reads compensated scans from tofcompd in Python.")
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME tofcomp)
@@ -66,6 +72,20 @@ set(CPACK_DEBIAN_PACKAGE_HOMEPAGE "https://example.invalid/tofcomp")
 # The daemon's emulator example plays the scenarios the command line's package ships.
 set(CPACK_COMPONENT_DAEMON_DEPENDS cli)
 set(CPACK_COMPONENT_CLIENT-DEV_DEPENDS client)
+set(CPACK_COMPONENT_PYTHON_DEPENDS client)
+set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS python3)
+set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
+set(CPACK_DEBIAN_PYTHON_PACKAGE_ARCHITECTURE all)
+# A package holding a shared library (libtofcomp-client0) gets a shlibs file, so that programs
+# built against it depend on it, and the ldconfig trigger that comes with it; the others hold
+# none and get neither.
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY ">=")
+set(CPACK_DEBIAN_CLIENT_PACKAGE_SECTION libs)
+# dpkg runs ldconfig once after the packages of a run are in (CPackDeb of CMake 3.25 writes no
+# trigger itself).
+set(CPACK_DEBIAN_CLIENT_PACKAGE_CONTROL_EXTRA ${TOFCOMP_SOURCE_ROOT}/packaging/libtofcomp-client0/triggers)
+set(CPACK_DEBIAN_CLIENT_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 
 set(TOFCOMP_PACKAGING_BINARY_DIR ${PROJECT_BINARY_DIR}/packaging)
 string(TIMESTAMP TOFCOMP_PACKAGE_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)

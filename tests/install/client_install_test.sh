@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# libtofcomp-client as a client program's author gets it: the components client and client-dev
+# libtofcomp-client as a client program's author gets it: the components client, client-dev and python
 # installed with the prefix /usr into a staging directory (DESTDIR), then a C program and a C++
 # program (client_programs/) compiled against that installation, found once by pkg-config and
 # once by CMake's find_package, and run against a live tofcompd (the build's, on its emulated
@@ -21,7 +21,7 @@ cleanup() {
 trap cleanup EXIT
 fail() { echo "client install: $*"; [ -f "$work/tofcompd.log" ] && cat "$work/tofcompd.log"; exit 1; }
 
-for component in client client-dev; do
+for component in client client-dev python; do
   DESTDIR="$stage" cmake --install "$build" --prefix /usr --component "$component" > /dev/null
 done
 

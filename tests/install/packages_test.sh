@@ -53,6 +53,16 @@ dpkg --root="$target" -s tofcompd | grep -qx 'Status: install ok installed'
 dpkg --root="$target" -s tofcomp | grep -qx 'Status: install ok installed'
 dpkg --root="$target" -L tofcompd | grep -qx /usr/bin/tofcompd
 dpkg --root="$target" -L tofcomp | grep -qx /usr/share/tofcomp/scenarios/default.yaml
+# The client library's packages, when the tree builds it: the shared library with its shlibs
+# and ldconfig trigger, the development files, the Python module.
+if [ -f "$work/debs/libtofcomp-client0_${version}_amd64.deb" ]; then
+  dpkg --root="$target" -L libtofcomp-client0 | grep -qx /usr/lib/libtofcomp-client.so.0.1.0
+  dpkg-deb -I "$work/debs/libtofcomp-client0_${version}_amd64.deb" shlibs |
+    grep -q '^libtofcomp-client 0 libtofcomp-client0'
+  dpkg-deb -I "$work/debs/libtofcomp-client0_${version}_amd64.deb" triggers | grep -qx 'activate-noawait ldconfig'
+  dpkg --root="$target" -L libtofcomp-client-dev | grep -qx /usr/include/tofcomp/tofcomp_client.h
+  dpkg --root="$target" -L python3-tofcomp-client | grep -qx /usr/lib/python3/dist-packages/tofcomp_client.py
+fi
 grep -q '^tofcompd:x:[0-9]*:[0-9]*:.*:/var/lib/tofcompd:' "$target/etc/passwd"
 
 # Stripped, with no path of the build or source tree inside; sizes for docs/deployment.md.
