@@ -66,17 +66,25 @@ set -e
 [ "$(wc -l < "$work/piped.jsonl")" = 3 ] || fail "head got $(wc -l < "$work/piped.jsonl") lines"
 check_lines "$work/piped.jsonl" || fail "piped lines: $(cat "$work/piped.jsonl")"
 
+# interrupted OUT CMD...: runs CMD into OUT and sends it SIGINT once three lines are out; its
+# exit status must be 0.
+interrupted() {
+  local out=$1
+  shift
+  "$@" > "$out" &
+  client=$!
+  for _ in $(seq 300); do [ "$(wc -l < "$out")" -ge 3 ] && break; sleep 0.1; done
+  kill -INT "$client"
+  set +e
+  wait "$client"
+  local status=$?
+  set -e
+  client=""
+  [ "$status" = 0 ] || fail "$* after SIGINT: status $status, not 0"
+}
+
 # SIGINT once three lines are out: status 0, the lines whole.
-"$tofcomp" query --socket "$socket" subscribe --json --beams 180:181 > "$work/interrupted.jsonl" &
-client=$!
-for _ in $(seq 300); do [ "$(wc -l < "$work/interrupted.jsonl")" -ge 3 ] && break; sleep 0.1; done
-kill -INT "$client"
-set +e
-wait "$client"
-status=$?
-set -e
-client=""
-[ "$status" = 0 ] || fail "subscribe after SIGINT: status $status, not 0"
+interrupted "$work/interrupted.jsonl" "$tofcomp" query --socket "$socket" subscribe --json --beams 180:181
 check_lines "$work/interrupted.jsonl" || fail "lines before SIGINT: $(tail -c 300 "$work/interrupted.jsonl")"
 
 # `tofcomp shm-dump --follow --json` streams the ring the same way: {"scan": ...} per line as
@@ -101,16 +109,7 @@ set -e
 [ "${statuses[0]}" = 0 ] || fail "shm-dump --follow | head -n 3: tofcomp's status ${statuses[0]}, not 0"
 [ "$(wc -l < "$work/ring-piped.jsonl")" = 3 ] || fail "head got $(wc -l < "$work/ring-piped.jsonl") lines"
 check_ring_lines "$work/ring-piped.jsonl" none || fail "ring lines: $(cat "$work/ring-piped.jsonl")"
-"$tofcomp" shm-dump "$ring" --follow --json --beams 180:181 > "$work/ring-interrupted.jsonl" &
-client=$!
-for _ in $(seq 300); do [ "$(wc -l < "$work/ring-interrupted.jsonl")" -ge 3 ] && break; sleep 0.1; done
-kill -INT "$client"
-set +e
-wait "$client"
-status=$?
-set -e
-client=""
-[ "$status" = 0 ] || fail "shm-dump --follow after SIGINT: status $status, not 0"
+interrupted "$work/ring-interrupted.jsonl" "$tofcomp" shm-dump "$ring" --follow --json --beams 180:181
 check_ring_lines "$work/ring-interrupted.jsonl" summary ||
   fail "shm-dump lines before SIGINT: $(tail -c 300 "$work/ring-interrupted.jsonl")"
 echo "query subscribe and shm-dump --follow stream: all checks hold"
