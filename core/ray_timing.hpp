@@ -13,6 +13,10 @@
 
 namespace tofcomp::core {
 
+// The most turns a scan interlaces (the LMS 2xx at 0.25°): more, in a scan read from outside, is
+// a malformed scan.
+inline constexpr std::uint32_t kMaxInterlacedTurns = 4;
+
 struct RayTiming {
   std::int64_t first_ray_ns = 0;  // beam 0's ray, CLOCK_REALTIME ns since the epoch; 0: unknown
   double ray_interval_ns = 0.0;   // between consecutive rays of one turn

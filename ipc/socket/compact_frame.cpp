@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "core/ray_timing.hpp"
 
 namespace tofcomp::ipc::socket {
 
@@ -34,8 +35,6 @@ constexpr std::size_t kOffsetRayInterval = 104;
 constexpr std::size_t kOffsetTurnPeriod = 112;
 constexpr std::size_t kOffsetInterlacedTurns = 120;
 constexpr std::size_t kOffsetRaysReserved = 124;
-// The most turns a scan interlaces (the LMS 2xx at 0.25°); more is a malformed frame.
-constexpr std::uint32_t kMaxInterlacedTurns = 4;
 static_assert(kOffsetReserved + 4 == kOffsetFirstRay);
 static_assert(kOffsetRaysReserved + 4 == kCompactHeaderBytes);
 
@@ -134,9 +133,9 @@ std::size_t compact_frame_size(std::string_view header) {
         " (offsets 84, 88) reach beyond the scan's " + std::to_string(beam_count));
   }
   if (const auto turns = get<std::uint32_t>(header, kOffsetInterlacedTurns);
-      turns > kMaxInterlacedTurns) {
+      turns > core::kMaxInterlacedTurns) {
     bad("interlaced_turns (offset 120) is " + std::to_string(turns) + ", more than " +
-        std::to_string(kMaxInterlacedTurns));
+        std::to_string(core::kMaxInterlacedTurns));
   }
   const std::size_t size = kCompactHeaderBytes + std::size_t{count} * kCompactBytesPerBeam;
   if (const auto stated = get<std::uint32_t>(header, kOffsetFrameBytes); stated != size) {

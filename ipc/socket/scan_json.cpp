@@ -10,13 +10,11 @@
 #include <system_error>
 
 #include "core/error.hpp"
+#include "core/ray_timing.hpp"
 
 namespace tofcomp::ipc::socket {
 
 namespace {
-
-// The most turns a scan interlaces (the LMS 2xx at 0.25°); more in a reply is malformed.
-constexpr std::uint32_t kMaxInterlacedTurns = 4;
 
 // Appends JSON text to a string; keys and names are the encoder's own (no escaping needed).
 class JsonText {
@@ -216,9 +214,9 @@ core::RayTiming decode_rays(const nlohmann::json& scan) {
   rays.ray_interval_ns = found->at("ray_interval_ns").get<double>();
   rays.turn_period_ns = found->at("turn_period_ns").get<double>();
   rays.interlaced_turns = found->at("interlaced_turns").get<std::uint32_t>();
-  if (rays.interlaced_turns > kMaxInterlacedTurns) {
+  if (rays.interlaced_turns > core::kMaxInterlacedTurns) {
     throw core::InvalidInput("rays.interlaced_turns " + std::to_string(rays.interlaced_turns) +
-                             " is more than " + std::to_string(kMaxInterlacedTurns));
+                             " is more than " + std::to_string(core::kMaxInterlacedTurns));
   }
   return rays;
 }
