@@ -12,7 +12,8 @@ namespace {
 // Shares of the work, for progress: the search dominates when it runs.
 constexpr double kThermalShare = 0.1;
 constexpr double kNoiseShare = 0.2;
-constexpr double kSearchShare = 0.9;
+constexpr double kSearchShare = 0.8;
+constexpr double kJunctionShare = 0.9;
 
 // The paper's structure (§8), kept when a record is too short to choose one.
 constexpr const char* kPaperBasis = "polynomial:4";
@@ -83,6 +84,35 @@ core::TrainingChoices record_choices(const Training& t) {
   return choices;
 }
 
+// The junction's dynamics from the ranges (calibration/junction_dynamics.hpp), at the structure
+// chosen; the EM starts from the structure search's fit, or from a fit at the given structure.
+JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSettings& settings,
+                                      const core::MapFitResult& case_fit,
+                                      const core::ThermalNoise& noise, const core::Basis& basis,
+                                      const core::EmTrainOptions& em,
+                                      const std::optional<core::EmStartingPoint>& structure_fit) {
+  JunctionDynamicsOptions options = settings.junction_dynamics;
+  options.em = settings.search.em;
+  options.em.variance_floor = em.variance_floor;
+  core::EmStartingPoint start;
+  if (structure_fit) {
+    start = *structure_fit;
+  } else {
+    const SmoothedJunction junction = junction_at_ranges(
+        data, case_fit.parameters, noise, settings.thermal.ambient_fallback_c);
+    core::EmTrainOptions first = options.em;
+    first.modes = em.modes;
+    first.record_trace = false;
+    const core::EmTrainResult fit = core::train_em(
+        basis.design_matrix(junction.junction_c), data.range_mm - data.true_range_mm, first);
+    start = core::EmStartingPoint{fit.theta, fit.mixture};
+  }
+  const JunctionDynamicsProblem problem{data,  case_fit, settings.thermal.prior,
+                                        noise, settings.thermal.ambient_fallback_c,
+                                        basis, em.modes,   start};
+  return fit_junction_dynamics(problem, options);
+}
+
 }  // namespace
 
 Training train_calibration(const MeasuredData& data, const TrainSettings& settings,
@@ -91,18 +121,19 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   Training t;
   report(progress, 0.0, "thermal fit");
   t.thermal = fit_thermal(data, held_out, settings.thermal);
-  const core::ThermalParameters& thermal = t.thermal.identified();
+  t.thermal_parameters = t.thermal.identified();
 
   report(progress, kThermalShare, "Kalman noise levels");
   core::ThermalNoise noise;
   if (settings.kalman_noise) {
     noise = *settings.kalman_noise;
   } else {
-    t.kalman_noise_fit = core::fit_kalman_noise(
-        case_log(data, settings.thermal.ambient_fallback_c), thermal, core::ThermalNoise{});
+    t.kalman_noise_fit = core::fit_kalman_noise(case_log(data, settings.thermal.ambient_fallback_c),
+                                                t.thermal_parameters, core::ThermalNoise{});
     noise = t.kalman_noise_fit->noise;
   }
-  t.junction = junction_at_ranges(data, thermal, noise, settings.thermal.ambient_fallback_c);
+  t.junction =
+      junction_at_ranges(data, t.thermal_parameters, noise, settings.thermal.ambient_fallback_c);
   const Eigen::VectorXd y_minus_d = data.range_mm - data.true_range_mm;
 
   // Ranges rounded to whole millimetres carry the rounding's variance h²/12 (Sheppard) in every
@@ -116,6 +147,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
       std::max(search_settings.search.em.variance_floor, rounding_variance);
   search_settings.search.resolution = kRangeResolutionMm;
   core::Basis basis;
+  std::optional<core::EmStartingPoint> structure_fit;
   const bool too_few_to_choose = y_minus_d.size() < core::minimum_ranges_for_search(settings.search);
   if ((settings.basis && settings.modes) || too_few_to_choose) {
     // Given, or too few ranges to judge candidates on: the paper's structure (§8) for what was
@@ -128,18 +160,34 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
     t.structure = choose_structure(search_settings, t.junction.junction_c, y_minus_d, progress);
     basis = t.structure->basis;
     em.modes = t.structure->modes;
-    // The final fit starts where the search's (looser) fit of the chosen candidate ended, unless
-    // the paper's start (Eq. 20) or M-step (Eq. 19 as printed) is asked for, to reproduce them.
-    if (em.initialization == core::EmInitialization::Quantiles && em.m_step == core::MStep::Exact) {
-      em.start = core::EmStartingPoint{t.structure->fit.theta, t.structure->fit.mixture};
+    structure_fit = core::EmStartingPoint{t.structure->fit.theta, t.structure->fit.mixture};
+  }
+
+  if (settings.junction_from_ranges && t.thermal.map && !too_few_to_choose) {
+    report(progress, kSearchShare, "junction dynamics from the ranges");
+    t.junction_dynamics =
+        complete_junction(data, settings, *t.thermal.map, noise, basis, em, structure_fit);
+    if (t.junction_dynamics->replaced) {
+      t.thermal_parameters = with_junction_dynamics(t.thermal_parameters,
+                                                    t.junction_dynamics->best.dynamics);
+      t.junction = junction_at_ranges(data, t.thermal_parameters, noise,
+                                      settings.thermal.ambient_fallback_c);
+      basis = basis_spanning(basis, t.junction.junction_c);
     }
   }
-  report(progress, kSearchShare, "EM training");
+
+  report(progress, kJunctionShare, "EM training");
   const Eigen::MatrixXd h = basis.design_matrix(t.junction.junction_c);
+  // The final fit starts where the search's (looser) fit of the chosen candidate ended, unless
+  // the paper's start (Eq. 20) or M-step (Eq. 19 as printed) is asked for, to reproduce them.
+  if (structure_fit && em.initialization == core::EmInitialization::Quantiles &&
+      em.m_step == core::MStep::Exact) {
+    em.start = least_squares_start(h, y_minus_d, structure_fit->mixture);
+  }
   t.em = core::train_em(h, y_minus_d, em);
 
   core::Calibration& c = t.calibration;
-  c.thermal = thermal;
+  c.thermal = t.thermal_parameters;
   c.kalman_noise = noise;
   c.ambient_c = settings.thermal.ambient_fallback_c;
   c.model.basis = basis;

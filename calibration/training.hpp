@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "calibration/junction_dynamics.hpp"
 #include "calibration/junction_estimate.hpp"
 #include "calibration/measured_data.hpp"
 #include "calibration/thermal_fit.hpp"
@@ -29,6 +30,11 @@ struct TrainSettings {
   std::optional<int> modes;
   core::EmTrainOptions em;  // the final fit's options (em.modes is set from `modes` or the search)
   core::StructureSearchOptions search;
+  // The junction's own dynamics (P·R1, R1·C1) completed from the ranges where the case-log fit
+  // held them at the datasheet (calibration/junction_dynamics.hpp). Only with the datasheet-prior
+  // thermal fit; the paper's prediction-error fit (--free) keeps what it identified.
+  bool junction_from_ranges = true;
+  JunctionDynamicsOptions junction_dynamics;
 };
 
 struct Training {
@@ -37,6 +43,10 @@ struct Training {
   std::optional<core::KalmanNoiseFit> kalman_noise_fit;  // when the levels were chosen from the log
   SmoothedJunction junction;
   std::optional<core::StructureChoice> structure;  // when basis or modes were chosen
+  std::optional<JunctionDynamicsFit> junction_dynamics;  // when completed from the ranges
+  // The thermal network the calibration carries: the thermal fit's, with the junction's
+  // dynamics from the ranges when they replaced it.
+  core::ThermalParameters thermal_parameters;
   bool structure_not_chosen = false;  // asked for, but too few ranges: the paper's structure
   core::EmTrainResult em;
 };

@@ -15,6 +15,8 @@ namespace {
 
 // --basis and --modes: chosen from the data.
 constexpr const char* kAuto = "auto";
+constexpr const char* kJunctionFromRanges = "ranges";
+constexpr const char* kJunctionFromCaseLog = "case-log";
 constexpr int kMaxModes = 10;
 
 }  // namespace
@@ -122,6 +124,7 @@ calibration::TrainSettings TrainingOptions::settings() const {
     }
     s.modes = m;
   }
+  s.junction_from_ranges = junction == kJunctionFromRanges;
   s.em.max_iterations = max_iterations;
   s.em.m_step = paper_m_step ? core::MStep::PaperAsPrinted : core::MStep::Exact;
   s.em.initialization =
@@ -148,6 +151,12 @@ std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd) {
   cmd.add_option("--max-iterations", o->max_iterations, "EM iteration cap")
       ->capture_default_str()
       ->check(at_least(1));
+  cmd.add_option("--junction", o->junction,
+                 "The junction's rise P·R1 and time constant R1·C1, which a case log barely "
+                 "shows: ranges (from the ranges' and the case log's joint likelihood, where "
+                 "it rejects the thermal fit's) or case-log (the thermal fit's alone)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({kJunctionFromRanges, kJunctionFromCaseLog}));
   return o;
 }
 

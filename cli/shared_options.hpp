@@ -40,6 +40,9 @@ struct TrainingOptions {
   bool paper_m_step = false;
   bool paper_init = false;
   int max_iterations = 1000;
+  // ranges: the junction's P·R1 and R1·C1 completed from the ranges where they reject the
+  // case-log fit's (calibration/junction_dynamics.hpp); case-log: the thermal fit's alone.
+  std::string junction = "ranges";
   calibration::TrainSettings settings() const;
 };
 std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd);

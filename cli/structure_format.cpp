@@ -68,11 +68,31 @@ nlohmann::json to_json(const core::StructureChoice& choice) {
           {"candidates", candidates}};
 }
 
+nlohmann::json to_json(const calibration::JunctionDynamicsFit& fit) {
+  const auto point = [](const calibration::JunctionDynamicsPoint& p) {
+    return nlohmann::json{{"rise_k", p.dynamics.rise_k},
+                          {"time_constant_s", p.dynamics.time_constant_s},
+                          {"ranges_log_likelihood", p.ranges_log_likelihood},
+                          {"prior_cost", p.prior_cost}};
+  };
+  return {{"datasheet",
+           {{"rise_k", fit.datasheet.rise_k}, {"time_constant_s", fit.datasheet.time_constant_s}}},
+          {"case_log_fit", point(fit.start)},
+          {"best", point(fit.best)},
+          {"block_t", fit.block_t},
+          {"block_p", fit.block_p},
+          {"replaced", fit.replaced},
+          {"evaluations", fit.evaluated.size()}};
+}
+
 nlohmann::json choices_json(const calibration::Training& training) {
   return {{"kalman_noise",
            training.kalman_noise_fit ? to_json(*training.kalman_noise_fit) : nlohmann::json(nullptr)},
           {"structure",
-           training.structure ? to_json(*training.structure) : nlohmann::json(nullptr)}};
+           training.structure ? to_json(*training.structure) : nlohmann::json(nullptr)},
+          {"junction_dynamics", training.junction_dynamics
+                                    ? to_json(*training.junction_dynamics)
+                                    : nlohmann::json(nullptr)}};
 }
 
 std::string kalman_noise_text(const core::KalmanNoiseFit& fit) {
@@ -117,6 +137,22 @@ std::string structure_text(const core::StructureChoice& choice) {
   return out;
 }
 
+std::string junction_dynamics_text(const calibration::JunctionDynamicsFit& fit) {
+  const calibration::JunctionDynamics& chosen = fit.chosen().dynamics;
+  return fmt::format(
+      "junction dynamics (§3.2-§3.3), by the ranges' likelihood and the datasheet prior: "
+      "rise P·R1 {:.2f} K, time constant R1·C1 {:.1f} s ({}; case-log fit {:.2f} K, {:.1f} s; "
+      "datasheet {:.2f} K, {:.1f} s; the ranges' log-likelihood {:+.1f}, over blocks of {} t = {:.2f}, "
+      "p = {:.2g}; {} points)\n",
+      chosen.rise_k, chosen.time_constant_s,
+      fit.replaced ? "from the ranges: they reject the case-log fit's junction"
+                   : "the case-log fit's: the ranges do not reject it",
+      fit.start.dynamics.rise_k, fit.start.dynamics.time_constant_s, fit.datasheet.rise_k,
+      fit.datasheet.time_constant_s,
+      fit.best.ranges_log_likelihood - fit.start.ranges_log_likelihood,
+      calibration::kJunctionBlockRanges, fit.block_t, fit.block_p, fit.evaluated.size());
+}
+
 std::string choices_text(const calibration::Training& training) {
   std::string out;
   out += training.kalman_noise_fit ? kalman_noise_text(*training.kalman_noise_fit)
@@ -129,6 +165,7 @@ std::string choices_text(const calibration::Training& training) {
   } else {
     out += "structure of Eq. 8: as given (--basis, --modes)\n";
   }
+  if (training.junction_dynamics) out += junction_dynamics_text(*training.junction_dynamics);
   return out;
 }
 
