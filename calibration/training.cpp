@@ -20,6 +20,9 @@ constexpr const char* kPaperBasis = "polynomial:4";
 constexpr int kPaperModes = 2;
 
 constexpr const char* kKalmanNoiseMethod = "innovations' likelihood (core/kalman_noise_fit.hpp)";
+constexpr const char* kJunctionDynamicsMethod =
+    "the ranges' likelihood with the datasheet prior, replacing the case-log fit's junction where "
+    "a t-test over blocks of ranges rejects it (calibration/junction_dynamics.hpp)";
 constexpr const char* kStructureMethod =
     "held-out log-likelihood on interleaved folds, one-standard-error rule "
     "(core/structure_search.hpp)";
@@ -80,6 +83,18 @@ core::TrainingChoices record_choices(const Training& t) {
       }
     }
     choices.structure = record;
+  }
+  if (t.junction_dynamics) {
+    const JunctionDynamicsFit& j = *t.junction_dynamics;
+    core::JunctionDynamicsRecord record;
+    record.method = kJunctionDynamicsMethod;
+    record.from_ranges = j.replaced;
+    record.rise_k = j.chosen().dynamics.rise_k;
+    record.time_constant_s = j.chosen().dynamics.time_constant_s;
+    record.case_log_rise_k = j.start.dynamics.rise_k;
+    record.case_log_time_constant_s = j.start.dynamics.time_constant_s;
+    record.block_p = j.block_p;
+    choices.junction_dynamics = record;
   }
   return choices;
 }

@@ -46,9 +46,20 @@ struct KalmanNoiseRecord {
   std::string method;
   std::vector<std::string> held;  // the levels the data did not determine, kept at their prior
 };
+// The junction's dynamics from the ranges (calibration/junction_dynamics.hpp).
+struct JunctionDynamicsRecord {
+  std::string method;
+  bool from_ranges = false;  // the ranges rejected the case-log fit's junction
+  double rise_k = 0.0;       // P·R1 of the calibration's thermal network
+  double time_constant_s = 0.0;  // R1·C1
+  double case_log_rise_k = 0.0;  // the case-log fit's
+  double case_log_time_constant_s = 0.0;
+  double block_p = 1.0;  // the t-test's p-value over blocks of ranges
+};
 struct TrainingChoices {
   std::optional<KalmanNoiseRecord> kalman_noise;
   std::optional<StructureRecord> structure;
+  std::optional<JunctionDynamicsRecord> junction_dynamics;
 };
 
 struct Calibration {

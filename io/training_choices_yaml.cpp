@@ -3,7 +3,7 @@
 namespace tofcomp::io {
 
 void emit_training_choices(YAML::Emitter& out, const core::TrainingChoices& choices) {
-  if (!choices.kalman_noise && !choices.structure) return;
+  if (!choices.kalman_noise && !choices.structure && !choices.junction_dynamics) return;
   out << YAML::Key << "choices" << YAML::Value << YAML::BeginMap;
   if (choices.kalman_noise) {
     out << YAML::Key << "kalman_noise" << YAML::Value << YAML::BeginMap;
@@ -31,6 +31,18 @@ void emit_training_choices(YAML::Emitter& out, const core::TrainingChoices& choi
     out << YAML::EndSeq;
     out << YAML::EndMap;
   }
+  if (choices.junction_dynamics) {
+    const core::JunctionDynamicsRecord& j = *choices.junction_dynamics;
+    out << YAML::Key << "junction_dynamics" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "method" << YAML::Value << j.method;
+    out << YAML::Key << "from_ranges" << YAML::Value << j.from_ranges;
+    out << YAML::Key << "rise_k" << YAML::Value << j.rise_k;
+    out << YAML::Key << "time_constant_s" << YAML::Value << j.time_constant_s;
+    out << YAML::Key << "case_log_rise_k" << YAML::Value << j.case_log_rise_k;
+    out << YAML::Key << "case_log_time_constant_s" << YAML::Value << j.case_log_time_constant_s;
+    out << YAML::Key << "block_p" << YAML::Value << j.block_p;
+    out << YAML::EndMap;
+  }
   out << YAML::EndMap;
 }
 
@@ -38,7 +50,7 @@ core::TrainingChoices read_training_choices(const YamlMap& top) {
   core::TrainingChoices choices;
   if (!top.has("choices")) return choices;
   const YamlMap section(top.node("choices"), top.child_path("choices"),
-                        {"kalman_noise", "structure"});
+                        {"kalman_noise", "structure", "junction_dynamics"});
   if (section.has("kalman_noise")) {
     const YamlMap noise(section.node("kalman_noise"), section.child_path("kalman_noise"),
                         {"method", "held"});
@@ -70,6 +82,20 @@ core::TrainingChoices read_training_choices(const YamlMap& top) {
                                    c.number("bic")});
     }
     choices.structure = record;
+  }
+  if (section.has("junction_dynamics")) {
+    const YamlMap j(section.node("junction_dynamics"), section.child_path("junction_dynamics"),
+                    {"method", "from_ranges", "rise_k", "time_constant_s", "case_log_rise_k",
+                     "case_log_time_constant_s", "block_p"});
+    core::JunctionDynamicsRecord record;
+    record.method = j.text("method");
+    record.from_ranges = j.boolean("from_ranges");
+    record.rise_k = j.number("rise_k");
+    record.time_constant_s = j.number("time_constant_s");
+    record.case_log_rise_k = j.number("case_log_rise_k");
+    record.case_log_time_constant_s = j.number("case_log_time_constant_s");
+    record.block_p = j.number("block_p");
+    choices.junction_dynamics = record;
   }
   return choices;
 }

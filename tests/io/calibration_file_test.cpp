@@ -132,9 +132,20 @@ TEST(CalibrationFile, TrainingChoicesRoundTrip) {
       "polynomial(4, legendre), 2 modes",
       {{"polynomial(3, legendre), 2 modes", 8, -2.25, 35853.5, 435836.25},
        {"polynomial(9, legendre), 2 modes", 14, -2.2501, 35900.0, 435900.0}}};
+  c.choices.junction_dynamics =
+      core::JunctionDynamicsRecord{"ranges", true, 4.25, 31.5, 1.875, 10.8, 0.0125};
   write_calibration_file(file, c);
   const core::Calibration back = read_calibration_file(file);
-  ASSERT_TRUE(back.choices.kalman_noise && back.choices.structure);
+  ASSERT_TRUE(back.choices.kalman_noise && back.choices.structure &&
+              back.choices.junction_dynamics);
+  const core::JunctionDynamicsRecord& j = *back.choices.junction_dynamics;
+  EXPECT_TRUE(j.from_ranges);
+  EXPECT_EQ(j.method, "ranges");
+  EXPECT_EQ(j.rise_k, 4.25);
+  EXPECT_EQ(j.time_constant_s, 31.5);
+  EXPECT_EQ(j.case_log_rise_k, 1.875);
+  EXPECT_EQ(j.case_log_time_constant_s, 10.8);
+  EXPECT_EQ(j.block_p, 0.0125);
   EXPECT_EQ(back.choices.kalman_noise->held, std::vector<std::string>{"junction_process"});
   const core::StructureRecord& s = *back.choices.structure;
   EXPECT_EQ(s.chosen, "polynomial(3, legendre), 2 modes");
