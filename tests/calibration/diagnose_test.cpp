@@ -24,13 +24,17 @@ const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 // extensions against Eq. 8 as printed. Chosen from the data, a flexible basis takes in what the
 // twin's equal power cycles make a function of the temperature (the heating rate while ranging,
 // the time since power-on) and a third mode takes in an extra mode, so that those effects are
-// no longer beyond the model (docs/closing-the-loop.md).
+// no longer beyond the model (docs/closing-the-loop.md). Likewise the junction's dynamics stay
+// the thermal fit's: taken from the ranges (calibration/junction_dynamics.hpp), a slower junction
+// takes in heating hysteresis (a junction that lags by τ more reads as a bias on the heating
+// rate, t^j(t − τ) ≈ t^j − τ dt^j/dt).
 TrainSettings datasheet_settings() {
   TrainSettings settings;
   settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
   settings.basis = "polynomial:4";
   settings.modes = 2;
   settings.kalman_noise = core::ThermalNoise{};
+  settings.junction_from_ranges = false;
   return settings;
 }
 

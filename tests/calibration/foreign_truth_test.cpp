@@ -3,6 +3,9 @@
 // does (the first half trained on, the rest tested), and checked against the truth:
 //   - the thermal combinations a case log determines (core/thermal_identification.hpp): the
 //     case's steady gain P·R2 within 5 % and its time constant R2·C2 within 10 %;
+//   - where the ranges replaced the case-log fit's junction (calibration/junction_dynamics.hpp),
+//     the junction's time constant R1·C1 moved towards the truth: nearer to it, in logarithm,
+//     than the case-log fit's;
 //   - the lasing modes as a distribution: the trained mixture's CDF, centred, within 0.02 of the
 //     truth's (its spreads widened by the 1 mm rounding's h²/12) everywhere, whether or not the
 //     search split or merged a mode;
@@ -74,6 +77,16 @@ TEST_P(ForeignTruth, CalibratedWithTheDefaultsWithinTheTruthsTolerances) {
   EXPECT_NEAR(fitted.power_w * fitted.r2_k_per_w / true_gain, 1.0, kSteadyGainTolerance) << name;
   EXPECT_NEAR(fitted.r2_k_per_w * fitted.c2_j_per_k / true_tau, 1.0, kCaseTimeConstantTolerance)
       << name;
+  ASSERT_TRUE(t.junction_dynamics.has_value()) << name;
+  if (t.junction_dynamics->replaced) {
+    const double true_junction_tau = thermal["R1"].get<double>() * thermal["C1"].get<double>();
+    const auto log_distance = [&](double tau) { return std::abs(std::log(tau / true_junction_tau)); };
+    EXPECT_LT(log_distance(t.junction_dynamics->best.dynamics.time_constant_s),
+              log_distance(t.junction_dynamics->start.dynamics.time_constant_s))
+        << name << ": R1·C1 " << t.junction_dynamics->best.dynamics.time_constant_s
+        << " s from the ranges, " << t.junction_dynamics->start.dynamics.time_constant_s
+        << " s from the case log, " << true_junction_tau << " s true";
+  }
 
   std::vector<Mode> true_modes, trained_modes;
   const nlohmann::json& modes = truth["modes"];

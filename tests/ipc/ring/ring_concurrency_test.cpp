@@ -1,14 +1,18 @@
 // A writer thread publishing as fast as it can into a small ring while reader threads copy: every
 // scan a reader gets is one the writer published, whole (each value is a function of the scan's
 // sequence and the beam index, so a copy mixing two scans shows), in order, and the cursor
-// accounts for every publish as read or lost.
+// accounts for every publish as read or lost. latest() may give up while the writer laps the
+// ring (its documented error); once the writer stops it reads the newest scan whole.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <optional>
+#include <string>
 #include <thread>
 
+#include "core/error.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/ring/ring_writer.hpp"
 #include "tests/ipc/ring/ring_test_support.hpp"
@@ -22,6 +26,8 @@ using testing::ScopedRingName;
 
 constexpr std::uint64_t kMaxScans = 200000;
 constexpr auto kMaxDuration = std::chrono::seconds(2);
+// What RingReader::latest() says when the writer laps the ring faster than it can copy a scan.
+constexpr const char* kLappedMessage = "laps the ring";
 
 // Varying beam counts, so that a header copied from one scan and beams from another differ.
 std::size_t beams_of(std::uint64_t sequence) {
@@ -83,13 +89,24 @@ TEST(RingConcurrency, EveryScanReadWhileTheWriterRacesIsWhole) {
     });
 
     std::uint64_t latest_read = 0;
+    std::uint64_t latest_lapped = 0;
     std::uint64_t latest_inconsistent = 0;
     std::uint64_t latest_backwards = 0;
     std::string latest_problem;
     std::thread latest_thread([&] {
       std::uint64_t newest = 0;
       while (!writer_done.load(std::memory_order_acquire)) {
-        const auto scan = latest_reader.latest();
+        // A writer with no pause laps a ring of two slots in microseconds; when the reader's
+        // thread is slower (another process has the core), latest() gives up with the error the
+        // library documents. That is an answer, not a torn scan: counted, and the read goes on.
+        std::optional<CompensatedScan> scan;
+        try {
+          scan = latest_reader.latest();
+        } catch (const core::Error& e) {
+          if (std::string(e.what()).find(kLappedMessage) == std::string::npos) throw;
+          ++latest_lapped;
+          continue;
+        }
         if (!scan) continue;
         ++latest_read;
         if (scan->sequence < newest) ++latest_backwards;
@@ -101,14 +118,20 @@ TEST(RingConcurrency, EveryScanReadWhileTheWriterRacesIsWhole) {
     writer_thread.join();
     cursor_thread.join();
     latest_thread.join();
+    // With the writer stopped, the newest scan is there to be read, whole.
+    const auto last = latest_reader.latest();
+    ASSERT_TRUE(last.has_value());
+    EXPECT_EQ(last->sequence, writer.published() - 1);
+    check(*last, latest_inconsistent, latest_problem);
 
     std::printf(
         "[ ring of %u slots ] published %llu; cursor read %llu, lost %llu (%llu torn); "
-        "latest read %llu, %llu torn\n",
+        "latest read %llu, %llu torn, lapped %llu times\n",
         slots, static_cast<unsigned long long>(writer.published()),
         static_cast<unsigned long long>(cursor.read), static_cast<unsigned long long>(cursor.lost),
         static_cast<unsigned long long>(cursor.torn), static_cast<unsigned long long>(latest_read),
-        static_cast<unsigned long long>(latest_reader.counters().torn_reads));
+        static_cast<unsigned long long>(latest_reader.counters().torn_reads),
+        static_cast<unsigned long long>(latest_lapped));
     EXPECT_EQ(cursor.inconsistent, 0u) << cursor.first_problem;
     EXPECT_EQ(latest_inconsistent, 0u) << latest_problem;
     EXPECT_EQ(cursor.out_of_order, 0u);
