@@ -29,6 +29,7 @@ struct TrainSettings {
   std::optional<int> modes;
   core::EmTrainOptions em;  // the final fit's options (em.modes is set from `modes` or the search)
   core::StructureSearchOptions search;
+  int threads = 0;  // the structure search's fits run at once; 0: one per core
 };
 
 struct Training {
