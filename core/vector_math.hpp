@@ -30,8 +30,9 @@ VectorMathPath active_vector_math_path();
 void pin_vector_math_path(std::optional<VectorMathPath> path);
 
 // x[0..n) ← exp(x[0..n)), log(x[0..n)), erfc(x[0..n)) on `path` (an unavailable path runs
-// Portable). IEEE special values as std::exp, std::log and std::erfc: exp(−∞) = 0, log(0) = −∞,
-// NaN stays NaN.
+// Portable). Special values as std::exp, std::log and std::erfc (log(0) = −∞, NaN stays NaN),
+// but for underflow: exp(−∞) and exp(x < −708) are 0, or on Eigen's SSE2 path a subnormal below
+// the smallest normal double.
 void exp_in_place(double* x, Eigen::Index n, VectorMathPath path = active_vector_math_path());
 void log_in_place(double* x, Eigen::Index n, VectorMathPath path = active_vector_math_path());
 void erfc_in_place(double* x, Eigen::Index n, VectorMathPath path = active_vector_math_path());
