@@ -41,6 +41,20 @@ Eigen::ArrayXd uniform(Eigen::Index n, double lo, double hi, unsigned seed) {
   return x;
 }
 
+// Three overlapping modes on a cubic bias: y − d and H (a cubic's Legendre basis).
+struct Record {
+  Eigen::VectorXd y;
+  Eigen::MatrixXd h;
+};
+Record draw(const MixtureParameters& truth, Eigen::Index ranges, unsigned seed) {
+  const auto data = testing::draw_measurements(testing::cycling_temperature(ranges),
+                                               testing::kSyntheticDistanceMm, testing::cubic_bias,
+                                               truth, seed);
+  return {data.range.array() - testing::kSyntheticDistanceMm,
+          Basis::polynomial(3, data.junction_temperature_c)
+              .design_matrix(data.junction_temperature_c)};
+}
+
 // exp, log and erfc agree element by element with the standard library's on both paths, for every
 // length (the AVX2 path takes the last n mod 4 elements apart), across their whole range.
 TEST_F(VectorMath, BothPathsMatchTheStandardLibraryOnEveryLength) {
@@ -100,12 +114,9 @@ TEST_F(VectorMath, BothPathsKeepTheSpecialValues) {
 // the log-likelihood to 1e-12 relative, the responsibilities and the M-step's sums as closely.
 TEST_F(VectorMath, TheEStepsGiveTheSameLikelihoodOnEitherPath) {
   const auto truth = testing::mixture({-1.4, 0.0, 1.5}, {0.6, 0.55, 0.7}, {0.3, 0.4, 0.3});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(20011),
-                                               testing::kSyntheticDistanceMm, testing::cubic_bias,
-                                               truth, 7);
-  const Eigen::VectorXd y = data.range.array() - testing::kSyntheticDistanceMm;
-  const Eigen::MatrixXd h =
-      Basis::polynomial(3, data.junction_temperature_c).design_matrix(data.junction_temperature_c);
+  const Record record = draw(truth, 20011, 7);
+  const Eigen::VectorXd& y = record.y;
+  const Eigen::MatrixXd& h = record.h;
   const Eigen::VectorXd theta = Eigen::VectorXd::Zero(h.cols());
   const Eigen::VectorXd residual = y;
   struct Run {
@@ -155,12 +166,9 @@ TEST_F(VectorMath, TheEStepsGiveTheSameLikelihoodOnEitherPath) {
 // A whole fit converges to the same maximum on either path.
 TEST_F(VectorMath, TrainingReachesTheSameMaximumOnEitherPath) {
   const auto truth = testing::mixture({-2.0, 0.0, 2.5}, {0.6, 0.55, 0.7}, {0.3, 0.4, 0.3});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(12000),
-                                               testing::kSyntheticDistanceMm, testing::cubic_bias,
-                                               truth, 11);
-  const Eigen::VectorXd y = data.range.array() - testing::kSyntheticDistanceMm;
-  const Eigen::MatrixXd h =
-      Basis::polynomial(3, data.junction_temperature_c).design_matrix(data.junction_temperature_c);
+  const Record record = draw(truth, 12000, 11);
+  const Eigen::VectorXd& y = record.y;
+  const Eigen::MatrixXd& h = record.h;
   EmTrainOptions options;
   options.modes = 3;
   options.record_trace = false;
