@@ -10,9 +10,9 @@
 #include <mutex>
 #include <optional>
 #include <random>
-#include <thread>
 
 #include "calibration/covariates.hpp"
+#include "calibration/parallel_for.hpp"
 #include "calibration/model_spec.hpp"
 #include "core/cramer_rao.hpp"
 #include "core/error.hpp"
@@ -328,18 +328,37 @@ void held_out_window_errors(const SearchData& data, const FoldModel& model, cons
 std::vector<HeldOutError> compare_held_out(const SearchData& data,
                                            const std::array<FoldModel, kFolds>& before,
                                            const std::array<FoldModel, kFolds>& after,
-                                           const Folds& folds, const ModelSearchOptions& options) {
+                                           const Folds& folds, const ModelSearchOptions& options,
+                                           int threads) {
   const double range_information =
       core::range_fisher_information(after[0].fit.model.modes, options.resolution);
-  std::vector<HeldOutError> out;
+  std::vector<Eigen::Index> windows;
   for (const Eigen::Index w : options.windows) {
-    if (w > folds.block) continue;
+    if (w <= folds.block) windows.push_back(w);
+  }
+  // The errors of each (window, fold, before or after) apart, computed at once, then joined in
+  // that order.
+  constexpr int kSides = 2;
+  const int tasks = static_cast<int>(windows.size()) * kFolds * kSides;
+  std::vector<std::vector<double>> errors(static_cast<std::size_t>(tasks));
+  parallel_for(tasks, threads, [&](int task) {
+    const Eigen::Index w = windows[static_cast<std::size_t>(task / (kFolds * kSides))];
+    const int f = (task / kSides) % kFolds;
+    const auto& model = task % kSides == 0 ? before : after;
+    held_out_window_errors(data, model[static_cast<std::size_t>(f)], folds, f, w, options.stride,
+                           errors[static_cast<std::size_t>(task)]);
+  });
+  std::vector<HeldOutError> out;
+  for (std::size_t wi = 0; wi < windows.size(); ++wi) {
+    const Eigen::Index w = windows[wi];
     std::vector<double> e_before, e_after;
     for (int f = 0; f < kFolds; ++f) {
-      held_out_window_errors(data, before[static_cast<std::size_t>(f)], folds, f, w,
-                             options.stride, e_before);
-      held_out_window_errors(data, after[static_cast<std::size_t>(f)], folds, f, w,
-                             options.stride, e_after);
+      for (int side = 0; side < kSides; ++side) {
+        const std::vector<double>& e = errors[(wi * kFolds + static_cast<std::size_t>(f)) * kSides +
+                                              static_cast<std::size_t>(side)];
+        std::vector<double>& into = side == 0 ? e_before : e_after;
+        into.insert(into.end(), e.begin(), e.end());
+      }
     }
     if (e_before.empty()) continue;
     const auto mean = [](const std::vector<double>& v) {
@@ -351,34 +370,6 @@ std::vector<HeldOutError> compare_held_out(const SearchData& data,
                    core::cramer_rao_mae_mm(range_information, w)});
   }
   return out;
-}
-
-// Runs task(i) for i in [0, n) on `threads` threads; the first exception is rethrown.
-template <typename Task>
-void parallel_for(int n, int threads, const Task& task) {
-  std::atomic<int> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  const auto worker = [&] {
-    for (int i = next++; i < n; i = next++) {
-      try {
-        task(i);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
-}
-
-int thread_count(int requested) {
-  if (requested > 0) return requested;
-  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 }  // namespace
@@ -461,7 +452,8 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   search_data.to_orthogonal(calibration.model.theta, base_fit.theta, base_fit.model.modes.mean);
   std::array<FoldModel, kFolds> held;
   Eigen::VectorXd held_scores = Eigen::VectorXd::Zero(search_data.size());
-  for (int f = 0; f < kFolds; ++f) {
+  // The folds at once: each writes its own model and its own held-out rows' scores.
+  parallel_for(kFolds, threads, [&](int f) {
     const auto& rows = folds.training(f);
     const core::ExtendedDesign design =
         design_of(ModelSpec{}, search_data, calibration.model.mixture.modes(), rows);
@@ -471,7 +463,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
                          .fit};
     score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
                    options.resolution, held_scores);
-  }
+  });
   const std::array<FoldModel, kFolds> training_model = held;
 
   for (int step = 0; step < options.max_steps; ++step) {
@@ -529,7 +521,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     const CandidateResult* named = s.named();
     if (named) {
       const std::array<FoldModel, kFolds>& best = fits[order.front()];
-      s.errors = compare_held_out(search_data, held, best, folds, options);
+      s.errors = compare_held_out(search_data, held, best, folds, options, threads);
       s.kept = named->held_out_gain > 0.0 && named->p_value <= s.critical_p;
       if (s.kept) {
         held = best;
@@ -556,7 +548,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   if (!result.kept.empty()) {
     result.calibration.provenance.notes += "; extended by the model search";
   }
-  result.errors = compare_held_out(search_data, training_model, held, folds, options);
+  result.errors = compare_held_out(search_data, training_model, held, folds, options, threads);
   report(1.0, "done");
   return result;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "calibration/basis_spec.hpp"
+#include "calibration/parallel_for.hpp"
 #include "io/utc_time.hpp"
 #include "io/version.hpp"
 
@@ -39,6 +40,7 @@ core::StructureChoice choose_structure(const TrainSettings& settings,
   core::StructureSearchOptions options = settings.search;
   if (settings.basis) options.basis = parse_basis(*settings.basis, junction_c);
   options.modes = settings.modes;
+  if (!options.parallel_for) options.parallel_for = parallel_runner(settings.threads);
   int visited = 0;
   return core::search_structure(junction_c, y_minus_d, options,
                                 [&](const core::CandidateEvidence& e) {

@@ -35,6 +35,7 @@ struct TrainSettings {
   // thermal fit; the paper's prediction-error fit (--free) keeps what it identified.
   bool junction_from_ranges = true;
   JunctionDynamicsOptions junction_dynamics;
+  int threads = 0;  // the structure search's fits run at once; 0: one per core
 };
 
 struct Training {

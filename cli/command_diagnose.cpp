@@ -40,8 +40,10 @@ Base base_model(const calibration::MeasuredData& measured, const SearchSettings&
                 const calibration::TrainSettings& training, Progress& progress) {
   if (s.calibration.empty()) {
     progress.update(0.0, "training the paper's model");
+    calibration::TrainSettings settings = training;
+    settings.threads = s.threads;
     calibration::Training t = calibration::train_calibration(
-        measured, training, nullptr, [&](double share, const std::string& stage) {
+        measured, settings, nullptr, [&](double share, const std::string& stage) {
           progress.update(0.2 * share, stage);
         });
     return {std::move(t.calibration), std::move(t.junction)};
@@ -79,7 +81,8 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("--max-steps", s->max_steps, "Terms added at most (forward selection)")
       ->capture_default_str()
       ->check(between(1, 10));
-  cmd->add_option("--threads", s->threads, "Candidates fitted at once (default: one per core)")
+  cmd->add_option("--threads", s->threads, "Fits run at once: the structure search's folds and the model search's candidates "
+                  "(default: one per core; the results do not depend on it)")
       ->check(between(1, 256));
   cmd->add_option("--calibration-output", s->calibration_output,
                   "Write the calibration with the kept terms (for tofcomp test, replay and "

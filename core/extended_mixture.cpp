@@ -8,6 +8,7 @@
 #include "core/covariate_table.hpp"
 #include "core/error.hpp"
 #include "core/validation.hpp"
+#include "core/vector_math.hpp"
 
 namespace tofcomp::core {
 namespace {
@@ -67,12 +68,15 @@ void log_emission(const Eigen::Ref<const Eigen::VectorXd>& e,
   const bool shifted = shift.size() > 0;
   out.resize(e.size(), modes);
   if (resolution > 0.0) {
-    for (Eigen::Index k = 0; k < e.size(); ++k) {
-      for (int i = 0; i < modes; ++i) {
-        out(k, i) = rounded_normal_log_probability(
-            e[k], m.modes.mean[i] + (shifted ? shift(k, i) : 0.0), m.variance(state[k], i),
-            resolution);
+    // Column by column: each range's mean and spread under mode i, then the rounded value's
+    // log-probability on arrays.
+    Eigen::ArrayXd mean(e.size()), variance(e.size());
+    for (int i = 0; i < modes; ++i) {
+      for (Eigen::Index k = 0; k < e.size(); ++k) {
+        mean[k] = m.modes.mean[i] + (shifted ? shift(k, i) : 0.0);
+        variance[k] = m.variance(state[k], i);
       }
+      out.col(i) = rounded_normal_log_probabilities(e.array(), mean, variance, resolution).matrix();
     }
     return;
   }
@@ -140,16 +144,20 @@ double independent_e_step(const Eigen::Ref<const Eigen::VectorXi>& state, const 
   if (outliers) top = top.max(log_outlier);
   Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(k_count);
   for (int i = 0; i < modes; ++i) {
-    joint.col(i) = (joint.col(i) - top).exp();
+    joint.col(i) -= top;
+    exp_in_place(joint.col(i));
     sum += joint.col(i);
   }
   if (outliers) {
-    out.outlier = (log_outlier - top).exp().matrix();
+    out.outlier = (log_outlier - top).matrix();
+    exp_in_place(out.outlier);
     sum += out.outlier.array();
   } else {
     out.outlier = Eigen::VectorXd::Zero(k_count);
   }
-  const Eigen::ArrayXd range_log_likelihood = top + sum.log();
+  Eigen::ArrayXd range_log_likelihood = sum;
+  log_in_place(range_log_likelihood);
+  range_log_likelihood += top;
   const Eigen::ArrayXd inverse = sum.inverse();
   joint.colwise() *= inverse;
   if (outliers) out.outlier.array() *= inverse;
@@ -169,7 +177,10 @@ double chain_e_step(const ExtendedMixture& m, Eigen::MatrixXd& log_b, ExtendedRe
   // b_k scaled by its largest mode, on arrays over all ranges.
   Eigen::ArrayXd top = log_b.col(0).array();
   for (int i = 1; i < modes; ++i) top = top.max(log_b.col(i).array());
-  for (int i = 0; i < modes; ++i) log_b.col(i) = (log_b.col(i).array() - top).exp().matrix();
+  for (int i = 0; i < modes; ++i) {
+    log_b.col(i).array() -= top;
+    exp_in_place(log_b.col(i));
+  }
   const Eigen::VectorXd shift = top.matrix();
   Eigen::MatrixXd alpha(k_count, modes);
   Eigen::VectorXd scale(k_count);

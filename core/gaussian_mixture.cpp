@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/validation.hpp"
+#include "core/vector_math.hpp"
 
 namespace tofcomp::core {
 namespace {
@@ -27,13 +28,34 @@ void log_joint(const Eigen::Ref<const Eigen::VectorXd>& residual, const MixtureP
   }
 }
 
-// P(a ≤ Z < b) for a standard normal Z, from the tail on the side of the interval, so that an
-// interval far out in a tail keeps its relative accuracy.
-double standard_normal_interval(double a, double b) {
-  const auto upper_tail = [](double z) { return 0.5 * std::erfc(z / std::numbers::sqrt2); };
-  if (a >= 0.0) return upper_tail(a) - upper_tail(b);
-  if (b <= 0.0) return upper_tail(-b) - upper_tail(-a);
-  return 1.0 - upper_tail(b) - upper_tail(-a);
+// P(a_k ≤ Z < b_k) for a standard normal Z, element-wise, from the tails on the side of each
+// interval, so that an interval far out in a tail keeps its relative accuracy: with
+// Q(z) = ½ erfc(z/√2), Q(a) − Q(b) when a ≥ 0, Q(−b) − Q(−a) when b ≤ 0, else 1 − Q(b) − Q(−a).
+Eigen::ArrayXd standard_normal_intervals(const Eigen::ArrayXd& a, const Eigen::ArrayXd& b) {
+  const Eigen::Index n = a.size();
+  Eigen::ArrayXd first(n), second(n);  // the two tails' arguments, then their erfc
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (a[k] >= 0.0) {
+      first[k] = a[k];
+      second[k] = b[k];
+    } else if (b[k] <= 0.0) {
+      first[k] = -b[k];
+      second[k] = -a[k];
+    } else {
+      first[k] = b[k];
+      second[k] = -a[k];
+    }
+  }
+  first /= std::numbers::sqrt2;
+  second /= std::numbers::sqrt2;
+  erfc_in_place(first);
+  erfc_in_place(second);
+  Eigen::ArrayXd out(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double q_first = 0.5 * first[k], q_second = 0.5 * second[k];
+    out[k] = a[k] >= 0.0 || b[k] <= 0.0 ? q_first - q_second : 1.0 - q_first - q_second;
+  }
+  return out;
 }
 
 }  // namespace
@@ -77,10 +99,13 @@ double mixture_e_step(const Eigen::Ref<const Eigen::VectorXd>& residual,
   for (int i = 1; i < m; ++i) top = top.max(joint.col(i));
   Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(residual.size());
   for (int i = 0; i < m; ++i) {
-    joint.col(i) = (joint.col(i) - top).exp();
+    joint.col(i) -= top;
+    exp_in_place(joint.col(i));
     sum += joint.col(i);
   }
-  const double log_likelihood = (top + sum.log()).sum();
+  Eigen::ArrayXd log_sum = sum;
+  log_in_place(log_sum);
+  const double log_likelihood = (top + log_sum).sum();
   joint.colwise() *= sum.inverse();
   if (!std::isfinite(log_likelihood)) {
     throw NumericalError(
@@ -98,8 +123,13 @@ Eigen::VectorXd mixture_log_densities(const Eigen::Ref<const Eigen::VectorXd>& r
   Eigen::ArrayXd top = a.col(0);
   for (int i = 1; i < mixture.modes(); ++i) top = top.max(a.col(i));
   Eigen::ArrayXd sum = Eigen::ArrayXd::Zero(residual.size());
-  for (int i = 0; i < mixture.modes(); ++i) sum += (a.col(i) - top).exp();
-  Eigen::VectorXd out = (top + sum.log()).matrix();
+  for (int i = 0; i < mixture.modes(); ++i) {
+    a.col(i) -= top;
+    exp_in_place(a.col(i));
+    sum += a.col(i);
+  }
+  log_in_place(sum);
+  Eigen::VectorXd out = (top + sum).matrix();
   if (!out.allFinite()) {
     throw NumericalError(
         "mixture log-density is not finite: a residual is not finite or every mode has zero "
@@ -112,34 +142,45 @@ Eigen::VectorXd rounded_mixture_log_probabilities(const Eigen::Ref<const Eigen::
                                                   const MixtureParameters& mixture,
                                                   double resolution) {
   require_positive(resolution, "the ranges' resolution");
-  const Eigen::VectorXd density = mixture_log_densities(residual, mixture);
-  Eigen::VectorXd out(residual.size());
   const double half = 0.5 * resolution;
-  for (Eigen::Index k = 0; k < residual.size(); ++k) {
-    double probability = 0.0;
-    for (int i = 0; i < mixture.modes(); ++i) {
-      const double sigma = std::sqrt(mixture.variance[i]);
-      probability += mixture.weight[i] *
-                     standard_normal_interval((residual[k] - half - mixture.mean[i]) / sigma,
-                                              (residual[k] + half - mixture.mean[i]) / sigma);
-    }
-    // Beyond the reach of double precision in every mode's tail: the density times the
-    // interval's width, which is what the probability tends to there.
-    out[k] = probability > std::numeric_limits<double>::min() ? std::log(probability)
-                                                               : density[k] + std::log(resolution);
+  const auto e = residual.array();
+  Eigen::ArrayXd probability = Eigen::ArrayXd::Zero(residual.size());
+  for (int i = 0; i < mixture.modes(); ++i) {
+    const double sigma = std::sqrt(mixture.variance[i]);
+    probability += mixture.weight[i] * standard_normal_intervals((e - half - mixture.mean[i]) / sigma,
+                                                                 (e + half - mixture.mean[i]) / sigma);
   }
-  return out;
+  Eigen::ArrayXd out = probability;
+  log_in_place(out);
+  // Beyond the reach of double precision in every mode's tail: the density times the
+  // interval's width, which is what the probability tends to there.
+  if ((probability <= std::numeric_limits<double>::min()).any()) {
+    const Eigen::VectorXd density = mixture_log_densities(residual, mixture);
+    for (Eigen::Index k = 0; k < out.size(); ++k) {
+      if (!(probability[k] > std::numeric_limits<double>::min())) {
+        out[k] = density[k] + std::log(resolution);
+      }
+    }
+  }
+  return out.matrix();
 }
 
-double rounded_normal_log_probability(double residual, double mean, double variance,
-                                      double resolution) {
+Eigen::ArrayXd rounded_normal_log_probabilities(const Eigen::Ref<const Eigen::ArrayXd>& residual,
+                                                const Eigen::Ref<const Eigen::ArrayXd>& mean,
+                                                const Eigen::Ref<const Eigen::ArrayXd>& variance,
+                                                double resolution) {
   const double half = 0.5 * resolution;
-  const double sigma = std::sqrt(variance);
-  const double probability =
-      standard_normal_interval((residual - half - mean) / sigma, (residual + half - mean) / sigma);
-  if (probability > std::numeric_limits<double>::min()) return std::log(probability);
-  const double z = (residual - mean) / sigma;
-  return std::log(resolution / sigma) - 0.5 * std::log(2.0 * std::numbers::pi) - 0.5 * z * z;
+  const Eigen::ArrayXd sigma = variance.sqrt();
+  const Eigen::ArrayXd probability =
+      standard_normal_intervals((residual - half - mean) / sigma, (residual + half - mean) / sigma);
+  Eigen::ArrayXd out = probability;
+  log_in_place(out);
+  for (Eigen::Index k = 0; k < out.size(); ++k) {
+    if (probability[k] > std::numeric_limits<double>::min()) continue;
+    const double z = (residual[k] - mean[k]) / sigma[k];
+    out[k] = std::log(resolution / sigma[k]) - 0.5 * std::log(2.0 * std::numbers::pi) - 0.5 * z * z;
+  }
+  return out;
 }
 
 double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,

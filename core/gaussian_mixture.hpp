@@ -41,10 +41,13 @@ Eigen::VectorXd rounded_mixture_log_probabilities(const Eigen::Ref<const Eigen::
                                                   const MixtureParameters& mixture,
                                                   double resolution);
 
-// log of one mode's probability of a rounded value, log[Φ((e + h/2 − μ)/σ) − Φ((e − h/2 − μ)/σ)],
-// and where that is beyond double precision in the tail, log(h N(e; μ, σ²)), its limit there.
-double rounded_normal_log_probability(double residual, double mean, double variance,
-                                      double resolution);
+// log of one mode's probability of each rounded value, log[Φ((e_k + h/2 − μ_k)/σ_k) −
+// Φ((e_k − h/2 − μ_k)/σ_k)], and where that is beyond double precision in the tail,
+// log(h N(e_k; μ_k, σ_k²)), its limit there; on arrays over the ranges (vectorized erfc and log).
+Eigen::ArrayXd rounded_normal_log_probabilities(const Eigen::Ref<const Eigen::ArrayXd>& residual,
+                                                const Eigen::Ref<const Eigen::ArrayXd>& mean,
+                                                const Eigen::Ref<const Eigen::ArrayXd>& variance,
+                                                double resolution);
 
 // Σ_k log Σ_i π_i N(e_k − μ_i, σ_i²), without keeping the responsibilities.
 double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,

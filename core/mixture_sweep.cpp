@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "core/error.hpp"
+#include "core/vector_math.hpp"
 #include "core/weighted_least_squares.hpp"
 
 namespace tofcomp::core {
@@ -50,7 +51,7 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
   s.mode_target = Eigen::VectorXd::Zero(m);
   s.mass = Eigen::VectorXd::Zero(m);
   Eigen::ArrayXXd joint(kChunk, m);
-  Eigen::ArrayXd residual(kChunk), top(kChunk), total(kChunk), root(kChunk);
+  Eigen::ArrayXd residual(kChunk), top(kChunk), total(kChunk), log_total(kChunk), root(kChunk);
   Eigen::MatrixXd centred(kChunk, p);
   Eigen::MatrixXd weights(kChunk, m);
   double log_likelihood = 0.0;
@@ -68,11 +69,17 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
     auto t = top.head(n);
     t = lj.col(0);
     for (int i = 1; i < m; ++i) t = t.max(lj.col(i));
-    for (int i = 0; i < m; ++i) lj.col(i) = (lj.col(i) - t).exp();
+    for (int i = 0; i < m; ++i) {
+      lj.col(i) -= t;
+      exp_in_place(lj.col(i));
+    }
     auto sum = total.head(n);
     sum = lj.col(0);
     for (int i = 1; i < m; ++i) sum += lj.col(i);
-    log_likelihood += (t + sum.log()).sum();
+    auto log_sum = log_total.head(n);
+    log_sum = sum;
+    log_in_place(log_sum);
+    log_likelihood += (t + log_sum).sum();
     // r_ki, w_ki = r_ki / σ_i² and t_k = Σ_i w_ki (one division per range).
     sum = sum.inverse();
     auto r = responsibilities.middleRows(first, n);

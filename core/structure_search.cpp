@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <map>
 #include <optional>
@@ -234,16 +235,39 @@ class Search {
   Eigen::VectorXd score_held_out_blocks(const Eigen::MatrixXd& h, const EmTrainResult& whole,
                                         EmTrainOptions em) const {
     em.start = EmStartingPoint{whole.theta, whole.mixture};
+    // Each fold's held-out log-densities, fitted independently (possibly at once).
+    const int folds = static_cast<int>(train_rows_.size());
+    std::vector<Eigen::VectorXd> fold_log_density(train_rows_.size());
+    std::vector<std::exception_ptr> fold_failure(train_rows_.size());
+    const auto fit_fold = [&](int fold) {
+      const auto f = static_cast<std::size_t>(fold);
+      try {
+        const std::vector<Eigen::Index>& train_rows = train_rows_[f];
+        const std::vector<Eigen::Index>& held_rows = held_rows_[f];
+        const EmTrainResult fit = train_em(h(train_rows, Eigen::all), y_(train_rows), em);
+        const Eigen::VectorXd residual = y_(held_rows) - h(held_rows, Eigen::all) * fit.theta;
+        fold_log_density[f] =
+            options_.resolution > 0.0
+                ? rounded_mixture_log_probabilities(residual, fit.mixture, options_.resolution)
+                : mixture_log_densities(residual, fit.mixture);
+      } catch (...) {
+        fold_failure[f] = std::current_exception();
+      }
+    };
+    if (options_.parallel_for) {
+      options_.parallel_for(folds, fit_fold);
+    } else {
+      for (int f = 0; f < folds; ++f) fit_fold(f);
+    }
+    // The first fold's failure, as a serial run would have met it.
+    for (const std::exception_ptr& failure : fold_failure) {
+      if (failure) std::rethrow_exception(failure);
+    }
+    // Summed in fold order whatever ran them.
     Eigen::VectorXd by_block = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(block_slot_.size()));
     for (std::size_t f = 0; f < train_rows_.size(); ++f) {
-      const std::vector<Eigen::Index>& train_rows = train_rows_[f];
       const std::vector<Eigen::Index>& held_rows = held_rows_[f];
-      const EmTrainResult fit = train_em(h(train_rows, Eigen::all), y_(train_rows), em);
-      const Eigen::VectorXd residual = y_(held_rows) - h(held_rows, Eigen::all) * fit.theta;
-      const Eigen::VectorXd log_density =
-          options_.resolution > 0.0
-              ? rounded_mixture_log_probabilities(residual, fit.mixture, options_.resolution)
-              : mixture_log_densities(residual, fit.mixture);
+      const Eigen::VectorXd& log_density = fold_log_density[f];
       for (std::size_t i = 0; i < held_rows.size(); ++i) {
         by_block[block_slot_.at(held_rows[i] / block_)] +=
             log_density[static_cast<Eigen::Index>(i)];

@@ -25,7 +25,8 @@
 //   3. with that M, the polynomial orders again (when M changed), then the Fourier family with
 //      f0 = 1 / (2 × the training span), so that one period spans twice the temperatures seen.
 // A basis fixed by the user skips 1 and 3 (M alone is searched at it); fixed modes skip 2.
-// Cost: one EM fit of the whole training set and `folds` warm fits per candidate visited.
+// Cost: one EM fit of the whole training set and `folds` warm fits per candidate visited; the
+// folds' fits are independent and run through options.parallel_for.
 #pragma once
 
 #include <Eigen/Core>
@@ -38,6 +39,10 @@
 #include "core/em_train.hpp"
 
 namespace tofcomp::core {
+
+// Runs task(i) for every i in [0, count), in any order and possibly at once (the caller's
+// threads: core has none); each task writes only its own results.
+using ParallelFor = std::function<void(int count, const std::function<void(int)>& task)>;
 
 struct StructureSearchOptions {
   int folds = 5;
@@ -59,6 +64,9 @@ struct StructureSearchOptions {
   // The fits' stopping rule and caps (trace off; tolerances loose enough for scoring).
   EmTrainOptions em = search_em_options();
   static EmTrainOptions search_em_options();
+  // Runs a candidate's fold fits; empty: one after the other. Any runner gives the same choice
+  // and the same figures bit for bit (the folds' scores are summed in fold order).
+  ParallelFor parallel_for;
 };
 
 // One candidate's evidence.

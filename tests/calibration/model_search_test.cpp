@@ -213,6 +213,41 @@ TEST(ModelSearch, RecoversTheWarmUpsAmplitudeAndTimeConstant) {
   EXPECT_NEAR(warm.term.time_constant_s, 240.0, 40.0);
 }
 
+// The candidates fitted on one thread or on three: the same steps, ranking and kept terms, and
+// the same figures (each candidate's fits and scores are its own, whatever thread runs them).
+TEST(ModelSearch, GivesTheSerialResultOnAnyNumberOfThreads) {
+  const Record r = draw_record(Injected::WarmUp, 102);
+  ModelSearchOptions options;
+  options.threads = 1;
+  const ModelSearchResult serial = search_model(r.data, r.calibration, r.junction, options);
+  options.threads = 3;
+  const ModelSearchResult parallel = search_model(r.data, r.calibration, r.junction, options);
+  const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::abs(a); };
+  ASSERT_EQ(serial.steps.size(), parallel.steps.size());
+  for (std::size_t i = 0; i < serial.steps.size(); ++i) {
+    const SearchStep &a = serial.steps[i], &b = parallel.steps[i];
+    EXPECT_EQ(a.kept, b.kept) << "step " << i + 1;
+    EXPECT_EQ(a.critical_p, b.critical_p) << "step " << i + 1;
+    ASSERT_EQ(a.candidates.size(), b.candidates.size());
+    for (std::size_t c = 0; c < a.candidates.size(); ++c) {
+      const CandidateResult &x = a.candidates[c], &y = b.candidates[c];
+      EXPECT_EQ(x.term.describe(), y.term.describe()) << "step " << i + 1 << ", rank " << c + 1;
+      EXPECT_EQ(x.error, y.error);
+      EXPECT_TRUE(same(x.held_out_gain, y.held_out_gain)) << x.term.describe();
+      EXPECT_TRUE(same(x.p_value, y.p_value)) << x.term.describe();
+    }
+    ASSERT_EQ(a.errors.size(), b.errors.size());
+    for (std::size_t w = 0; w < a.errors.size(); ++w) {
+      EXPECT_TRUE(same(a.errors[w].after_mae_mm, b.errors[w].after_mae_mm));
+    }
+  }
+  ASSERT_EQ(serial.kept.size(), parallel.kept.size());
+  for (std::size_t i = 0; i < serial.kept.size(); ++i) {
+    EXPECT_EQ(serial.kept[i].describe(), parallel.kept[i].describe());
+  }
+  EXPECT_FALSE(serial.kept.empty());  // the warm-up is kept: the comparison covers a kept step
+}
+
 TEST(ModelSearch, RefusesARecordTooShortForTheFolds) {
   Record r = draw_record(Injected::None, 7, 1);
   const Eigen::Index keep = 15;

@@ -56,5 +56,32 @@ TEST(GaussianMixture, ValidateNamesTheProblem) {
   EXPECT_THROW(m.validate(), InvalidInput);
 }
 
+// The probability of a rounded value under one standard normal mode, from the tail on the
+// interval's side: P(|Z| < ½) at 0, Q(4.5) − Q(5.5) at ±5 (known values of Φ), and far beyond
+// double precision the density times the width, log(1 · N(40; 0, 1)).
+TEST(GaussianMixture, RoundedProbabilitiesAreTheIntervalsOfTheModes) {
+  const auto single = testing::mixture({0.0}, {1.0}, {1.0});
+  Eigen::VectorXd residual(4);
+  residual << 0.0, 5.0, -5.0, 40.0;
+  const Eigen::VectorXd p = rounded_mixture_log_probabilities(residual, single, 1.0);
+  EXPECT_NEAR(p[0], std::log(0.38292492254802624), 1e-14);
+  EXPECT_NEAR(p[1], std::log(3.3786835622641737e-06), 1e-12);
+  EXPECT_NEAR(p[2], p[1], 1e-12);
+  EXPECT_NEAR(p[3], -800.9189385332047, 1e-9);
+  // Two modes: the weighted sum of the modes' intervals (the second centred on 5).
+  const auto two = testing::mixture({0.0, 5.0}, {1.0, 1.0}, {0.25, 0.75});
+  const Eigen::VectorXd q = rounded_mixture_log_probabilities(residual.head(2), two, 1.0);
+  EXPECT_NEAR(q[0], std::log(0.25 * 0.38292492254802624 + 0.75 * 3.3786835622641737e-06), 1e-12);
+  EXPECT_NEAR(q[1], std::log(0.25 * 3.3786835622641737e-06 + 0.75 * 0.38292492254802624), 1e-12);
+  // The same per mode, on arrays: each range its own mean and spread.
+  Eigen::ArrayXd mean(2), variance(2);
+  mean << 0.0, 5.0;
+  variance << 1.0, 4.0;
+  const Eigen::ArrayXd per_mode =
+      rounded_normal_log_probabilities(residual.head(2).array(), mean, variance, 2.0);
+  EXPECT_NEAR(per_mode[0], std::log(0.6826894921370859), 1e-12);  // P(|Z| < 1)
+  EXPECT_NEAR(per_mode[1], std::log(0.38292492254802624), 1e-12);  // P(|Z| < ½), σ = 2
+}
+
 }  // namespace
 }  // namespace tofcomp::core

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+#include <vector>
+
 #include "core/error.hpp"
 #include "tests/support/synthetic_measurements.hpp"
 
@@ -90,6 +93,46 @@ TEST(StructureSearch, SearchesTheFourierFamilyBeside) {
   const Eigen::VectorXd gap = fitted - data.true_bias;
   const double spread = std::sqrt((gap.array() - gap.mean()).square().mean());
   EXPECT_LT(spread, 0.05);
+}
+
+// The folds' fits run through options.parallel_for: on threads, in reverse order or one after
+// the other, every candidate's evidence and the choice are the same bit for bit.
+TEST(StructureSearch, GivesTheSameChoiceWhateverRunsTheFolds) {
+  const auto truth = testing::mixture({-2.5, 0.0, 2.5}, {0.8, 0.6, 0.8}, {0.3, 0.4, 0.3});
+  const auto data = testing::draw_measurements(testing::cycling_temperature(8000), kDistance,
+                                               cubic_bias, truth, 21);
+  StructureSearchOptions serial;
+  serial.max_polynomial_order = 5;
+  serial.max_modes = 3;
+  StructureSearchOptions threaded = serial;
+  threaded.parallel_for = [](int count, const std::function<void(int)>& task) {
+    std::vector<std::thread> threads;
+    for (int i = 0; i < count; ++i) threads.emplace_back(task, i);
+    for (std::thread& t : threads) t.join();
+  };
+  StructureSearchOptions reversed = serial;
+  reversed.parallel_for = [](int count, const std::function<void(int)>& task) {
+    for (int i = count - 1; i >= 0; --i) task(i);
+  };
+  const StructureChoice a = search_on(data, serial);
+  for (const StructureSearchOptions& options : {threaded, reversed}) {
+    const StructureChoice b = search_on(data, options);
+    ASSERT_EQ(a.candidates.size(), b.candidates.size());
+    for (std::size_t i = 0; i < a.candidates.size(); ++i) {
+      const CandidateEvidence &x = a.candidates[i], &y = b.candidates[i];
+      EXPECT_EQ(x.name, y.name);
+      EXPECT_EQ(x.ok, y.ok);
+      EXPECT_EQ(x.log_likelihood, y.log_likelihood) << x.name;
+      EXPECT_EQ(x.held_out_log_likelihood, y.held_out_log_likelihood) << x.name;
+      EXPECT_EQ(x.block_log_likelihood, y.block_log_likelihood) << x.name;
+    }
+    EXPECT_EQ(a.chosen, b.chosen);
+    EXPECT_EQ(a.basis.describe(), b.basis.describe());
+    EXPECT_EQ(a.modes, b.modes);
+    EXPECT_EQ(a.fit.theta, b.fit.theta);
+    EXPECT_EQ(a.shortfall_per_range, b.shortfall_per_range);
+  }
+  EXPECT_GT(a.candidates.size(), 3u);
 }
 
 TEST(StructureSearch, RefusesTooFewRangesOrFolds) {
