@@ -24,6 +24,7 @@ void FlaggedBeams::add(const client::Scan& scan) {
   beams_ += scan.beams.size();
   for (const client::Beam& beam : scan.beams) {
     if ((beam.flags & kRangeFlags) != 0) ++flagged_;
+    if ((beam.flags & TOFCOMP_FLAG_NO_ECHO) != 0) ++no_echo_;
   }
 }
 
@@ -78,6 +79,7 @@ DiagnosticValues scanner_diagnostics(const nlohmann::json& status,
   v.emplace_back("state", state);
   v.emplace_back("flagged beams (share)", number_text(beams.share()));
   v.emplace_back("flagged beams", std::to_string(beams.flagged()));
+  v.emplace_back("beams without echo", std::to_string(beams.no_echo()));
   v.emplace_back("beams", std::to_string(beams.beams()));
   v.emplace_back("scans", std::to_string(beams.scans()));
   v.emplace_back("first scan", beams.scans() ? std::to_string(beams.first_sequence()) : "none");

@@ -18,16 +18,18 @@ namespace tofcomp::bridges::ros2 {
 // DiagnosticStatus's levels (diagnostic_msgs/msg/DiagnosticStatus.msg).
 enum class DiagnosticLevel : std::uint8_t { Ok = 0, Warn = 1, Error = 2, Stale = 3 };
 
-// The flags that say a beam's compensated range is missing or less trustworthy: no echo, no
-// calibration, a stale case temperature, an outlier, a junction temperature beyond the trained
-// ones. The window's flags (restarting, change detected) concern d̂, not the range published.
+// The flags that say a beam's compensated range is missing or less trustworthy for a reason of
+// the scanner's or the compensation's: no calibration, a stale case temperature, an outlier, a
+// junction temperature beyond the trained ones. No echo is the scene's (nothing within range:
+// REP 117's +Inf), counted apart; the window's flags (restarting, change detected) concern d̂,
+// not the range published.
 inline constexpr std::uint16_t kRangeFlags =
-    TOFCOMP_FLAG_NO_ECHO | TOFCOMP_FLAG_UNCALIBRATED | TOFCOMP_FLAG_TEMPERATURE_STALE |
-    TOFCOMP_FLAG_OUTLIER | TOFCOMP_FLAG_TEMPERATURE_EXTRAPOLATED;
+    TOFCOMP_FLAG_UNCALIBRATED | TOFCOMP_FLAG_TEMPERATURE_STALE | TOFCOMP_FLAG_OUTLIER |
+    TOFCOMP_FLAG_TEMPERATURE_EXTRAPOLATED;
 // Above this share of flagged beams over a report's scans, the level is WARN.
 inline constexpr double kWarnFlaggedShare = 0.25;
 
-// The beams of the scans since the last report, and how many carried a range flag.
+// The beams of the scans since the last report: how many carried a range flag, how many no echo.
 class FlaggedBeams {
  public:
   void add(const client::Scan& scan);
@@ -35,12 +37,13 @@ class FlaggedBeams {
   std::uint64_t scans() const { return scans_; }
   std::uint64_t beams() const { return beams_; }
   std::uint64_t flagged() const { return flagged_; }
+  std::uint64_t no_echo() const { return no_echo_; }
   std::uint64_t first_sequence() const { return first_sequence_; }
   std::uint64_t last_sequence() const { return last_sequence_; }
   double share() const;  // flagged / beams; 0 without beams
 
  private:
-  std::uint64_t scans_ = 0, beams_ = 0, flagged_ = 0;
+  std::uint64_t scans_ = 0, beams_ = 0, flagged_ = 0, no_echo_ = 0;
   std::uint64_t first_sequence_ = 0, last_sequence_ = 0;
 };
 

@@ -294,10 +294,9 @@ TEST_F(Ros2Bridge, ScansAndHealthReachADdsSubscriberAsTheSocketAnswers) {
     EXPECT_EQ(std::stod(values["junction temperature std (°C)"]), latest->info.junction_std_c);
     EXPECT_GT(stamp_ns(report->header_.stamp_), latest->info.first_ray_ns);
     // The flagged beams of the scans covered, counted here from the JSON flags.
-    const std::uint16_t range_flags = TOFCOMP_FLAG_NO_ECHO | TOFCOMP_FLAG_UNCALIBRATED |
-                                      TOFCOMP_FLAG_TEMPERATURE_STALE | TOFCOMP_FLAG_OUTLIER |
-                                      TOFCOMP_FLAG_TEMPERATURE_EXTRAPOLATED;
-    std::uint64_t beams = 0, flagged = 0, covered = 0;
+    const std::uint16_t range_flags = TOFCOMP_FLAG_UNCALIBRATED | TOFCOMP_FLAG_TEMPERATURE_STALE |
+                                      TOFCOMP_FLAG_OUTLIER | TOFCOMP_FLAG_TEMPERATURE_EXTRAPOLATED;
+    std::uint64_t beams = 0, flagged = 0, no_echo = 0, covered = 0;
     for (auto s = std::stoull(values["first scan"]); s <= std::stoull(values["last scan"]); ++s) {
       const client::Scan* scan = socket_scans.with_sequence(s);
       ASSERT_NE(scan, nullptr) << "scan " << s;
@@ -305,11 +304,13 @@ TEST_F(Ros2Bridge, ScansAndHealthReachADdsSubscriberAsTheSocketAnswers) {
       for (const client::Beam& beam : scan->beams) {
         ++beams;
         if ((beam.flags & range_flags) != 0) ++flagged;
+        if ((beam.flags & TOFCOMP_FLAG_NO_ECHO) != 0) ++no_echo;
       }
     }
     EXPECT_EQ(values["scans"], std::to_string(covered));
     EXPECT_EQ(values["beams"], std::to_string(beams));
     EXPECT_EQ(values["flagged beams"], std::to_string(flagged));
+    EXPECT_EQ(values["beams without echo"], std::to_string(no_echo));
     EXPECT_DOUBLE_EQ(std::stod(values["flagged beams (share)"]),
                      static_cast<double>(flagged) / static_cast<double>(beams));
     if (reports_checked++ == 0) print_report(status);
