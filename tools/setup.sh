@@ -19,6 +19,7 @@ PACKAGES=(
   python3 python3-matplotlib python3-numpy
   scdoc
   dpkg-dev lintian fakeroot
+  cyclonedds-dev cyclonedds-tools
 )
 
 missing=()

@@ -4,7 +4,8 @@
 # data directory land where a Debian system looks for them; the installed /etc/tofcompd/tofcompd.yaml
 # names a real scanner (no emulator) and passes the daemon's check once its state files exist; the
 # emulator runs from the installed data directory only when asked; the installed tofcomp finds its
-# renderer and needs no datasheet file; no path of the build tree is in a binary. Then the prefix
+# renderer and needs no datasheet file; the ROS 2 bridge's unit and configuration (off) are in
+# place; no path of the build tree is in a binary. Then the prefix
 # /usr/local: the units name that prefix's daemon and configuration.
 set -euo pipefail
 build=$1
@@ -13,6 +14,8 @@ stage=$(mktemp -d)
 trap 'rm -rf "$stage" "$stage.log"' EXIT
 DESTDIR="$stage" cmake --install "$build" --prefix /usr --strip > "$stage.log"
 for f in usr/bin/tofcompd usr/bin/tofcomp etc/tofcompd/tofcompd.yaml \
+         usr/bin/tofcomp-ros2-bridge etc/tofcompd/ros2-bridge.yaml \
+         usr/lib/systemd/system/tofcomp-ros2-bridge.service usr/share/man/man8/tofcomp-ros2-bridge.8.gz \
          usr/lib/systemd/system/tofcompd.service usr/lib/systemd/system/tofcompd@.service \
          usr/lib/sysusers.d/tofcompd.conf \
          usr/share/man/man8/tofcompd.8.gz usr/share/man/man5/tofcompd.yaml.5.gz \
@@ -36,6 +39,12 @@ grep -qx 'ExecStart=/usr/bin/tofcompd --config /etc/tofcompd/tofcompd.yaml' \
   "$stage/usr/lib/systemd/system/tofcompd.service"
 grep -qx 'ExecStart=/usr/bin/tofcompd --config /etc/tofcompd/%i.yaml --instance %i' \
   "$stage/usr/lib/systemd/system/tofcompd@.service"
+# The ROS 2 bridge: its unit on its configuration, which publishes nothing until enabled.
+grep -qx 'ExecStart=/usr/bin/tofcomp-ros2-bridge --config /etc/tofcompd/ros2-bridge.yaml' \
+  "$stage/usr/lib/systemd/system/tofcomp-ros2-bridge.service"
+grep -qx '  enabled: false' "$stage/etc/tofcompd/ros2-bridge.yaml"
+"$stage/usr/bin/tofcomp-ros2-bridge" --config "$stage/etc/tofcompd/ros2-bridge.yaml" --check-config |
+  grep -q ': ok$'
 # No path of the source or build tree in a binary (the data directory is found from the binary).
 for b in tofcompd tofcomp; do
   if strings "$stage/usr/bin/$b" | grep -F -e "$root" -e "$(cd "$build" && pwd)"; then

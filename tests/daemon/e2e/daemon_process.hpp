@@ -1,5 +1,6 @@
-// tofcompd run as a child process for the end-to-end tests: a configuration written to a
-// temporary directory, the real binary started on it, its log kept, SIGHUP and SIGTERM sent.
+// tofcompd (or another program) run as a child process for the end-to-end tests: a
+// configuration written to a temporary directory, the real binary started on it, its log kept,
+// SIGHUP and SIGTERM sent.
 #pragma once
 
 #include <fcntl.h>
@@ -14,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace tofcomp::test {
 
@@ -34,31 +36,39 @@ class TemporaryDirectory {
   std::filesystem::path path_;
 };
 
-class DaemonProcess {
+// A program run as a child process for the end-to-end tests, its stdout and stderr to a log.
+class ChildProcess {
  public:
-  DaemonProcess(const std::filesystem::path& config, const std::filesystem::path& log) : log_(log) {
+  ChildProcess(const char* program, const std::vector<std::string>& arguments,
+               const std::filesystem::path& log)
+      : log_(log) {
+    std::vector<char*> argv{const_cast<char*>(program)};
+    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
     pid_ = ::fork();
     if (pid_ < 0) throw std::runtime_error("fork failed");
     if (pid_ == 0) {
       const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       ::dup2(fd, 1);
       ::dup2(fd, 2);
-      ::execl(TOFCOMPD_BINARY, "tofcompd", "--config", config.c_str(), nullptr);
+      ::execv(program, argv.data());
       ::_exit(127);
     }
   }
-  ~DaemonProcess() {
+  ~ChildProcess() {
     if (pid_ > 0 && !exited_) {
       ::kill(pid_, SIGKILL);
       ::waitpid(pid_, nullptr, 0);
     }
   }
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
 
   void signal(int number) { ::kill(pid_, number); }
 
-  // The exit status after SIGTERM, or -1 when it did not exit within the limit.
-  int terminate(std::chrono::seconds limit = std::chrono::seconds(20)) {
-    ::kill(pid_, SIGTERM);
+  // The exit status once it exits (128 + signal when a signal ended it), or -1 when it did not
+  // exit within the limit.
+  int wait_exit(std::chrono::seconds limit) {
     const auto until = std::chrono::steady_clock::now() + limit;
     while (std::chrono::steady_clock::now() < until) {
       int status = 0;
@@ -69,6 +79,12 @@ class DaemonProcess {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     return -1;
+  }
+
+  // The exit status after SIGTERM, or -1 when it did not exit within the limit.
+  int terminate(std::chrono::seconds limit = std::chrono::seconds(20)) {
+    ::kill(pid_, SIGTERM);
+    return wait_exit(limit);
   }
 
   bool running() {
@@ -87,6 +103,13 @@ class DaemonProcess {
   pid_t pid_ = -1;
   bool exited_ = false;
   std::filesystem::path log_;
+};
+
+// tofcompd (TOFCOMPD_BINARY, defined by the test's CMakeLists.txt) on a configuration file.
+class DaemonProcess : public ChildProcess {
+ public:
+  DaemonProcess(const std::filesystem::path& config, const std::filesystem::path& log)
+      : ChildProcess(TOFCOMPD_BINARY, {"--config", config.string()}, log) {}
 };
 
 // Waits until `path` exists; false after the limit.
