@@ -10,13 +10,15 @@
 #   client-dev  -> libtofcomp-client-dev  its headers, static library, pkg-config and CMake files
 #   python      -> python3-tofcomp-client the Python module over the shared library (Debian
 #                                         keeps Python modules out of library packages)
+#   mqtt-bridge -> tofcomp-mqtt-bridge    the MQTT bridge, its unit template, example
+#                                         configuration and man page 8
 # A component that no install rule fills is left out, so the list follows what the tree builds.
 # Built with `cpack --config build/CPackConfig.cmake -B DIR` (tests/install/packages_test.sh);
 # the binaries are stripped as they are packaged.
 # Included last by the top-level CMakeLists.txt, after every install rule.
 get_cmake_property(TOFCOMP_INSTALL_COMPONENTS COMPONENTS)
 set(TOFCOMP_PACKAGE_COMPONENTS)
-foreach(component daemon cli client client-dev python)
+foreach(component daemon cli client client-dev python mqtt-bridge)
   if(component IN_LIST TOFCOMP_INSTALL_COMPONENTS)
     list(APPEND TOFCOMP_PACKAGE_COMPONENTS ${component})
   endif()
@@ -27,11 +29,13 @@ set(TOFCOMP_PACKAGE_cli tofcomp)
 set(TOFCOMP_PACKAGE_client libtofcomp-client0)
 set(TOFCOMP_PACKAGE_client-dev libtofcomp-client-dev)
 set(TOFCOMP_PACKAGE_python python3-tofcomp-client)
+set(TOFCOMP_PACKAGE_mqtt-bridge tofcomp-mqtt-bridge)
 set(TOFCOMP_SUMMARY_daemon "LiDAR temperature and mode-hopping compensation daemon")
 set(TOFCOMP_SUMMARY_cli "LiDAR temperature and mode-hopping compensation tools")
 set(TOFCOMP_SUMMARY_client "client library of the tofcompd LiDAR compensation daemon")
 set(TOFCOMP_SUMMARY_client-dev "client library of tofcompd: development files")
 set(TOFCOMP_SUMMARY_python "client library of tofcompd: Python 3 module")
+set(TOFCOMP_SUMMARY_mqtt-bridge "MQTT bridge of the tofcompd LiDAR compensation daemon")
 set(TOFCOMP_DESCRIPTION_daemon
   "tofcompd reads a SICK LMS 200 over its serial link and a thermometer on its
 case, compensates each range for the laser's junction temperature and lasing
@@ -47,6 +51,11 @@ set(TOFCOMP_DESCRIPTION_client-dev
   "Headers, static library, pkg-config and CMake files of the tofcompd client library.")
 set(TOFCOMP_DESCRIPTION_python
   "The module tofcomp_client reads compensated scans from tofcompd in Python.")
+set(TOFCOMP_DESCRIPTION_mqtt-bridge
+  "tofcomp-mqtt-bridge publishes one tofcompd's status, calibration, junction
+temperature, diagnosis findings and a summary of its compensated ranges to an
+MQTT broker, with a retained online state and TLS, and passes the reload and
+recalibrate commands its configuration allows (tofcomp-mqtt-bridge@.service).")
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME tofcomp)
@@ -73,6 +82,8 @@ set(CPACK_DEBIAN_PACKAGE_HOMEPAGE "https://example.invalid/tofcomp")
 set(CPACK_COMPONENT_DAEMON_DEPENDS cli)
 set(CPACK_COMPONENT_CLIENT-DEV_DEPENDS client)
 set(CPACK_COMPONENT_PYTHON_DEPENDS client)
+# The bridge runs as tofcompd's user, which the daemon's package makes.
+set(CPACK_COMPONENT_MQTT-BRIDGE_DEPENDS daemon)
 set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS python3)
 set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
 set(CPACK_DEBIAN_PYTHON_PACKAGE_ARCHITECTURE all)
@@ -114,5 +125,10 @@ set(CPACK_DEBIAN_DAEMON_PACKAGE_CONTROL_EXTRA
   ${TOFCOMP_SOURCE_ROOT}/packaging/tofcompd/postinst
   ${TOFCOMP_SOURCE_ROOT}/packaging/tofcompd/postrm)
 set(CPACK_DEBIAN_DAEMON_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+# The bridge's package: systemd learns of its unit template (not enabled).
+set(CPACK_DEBIAN_MQTT-BRIDGE_PACKAGE_CONTROL_EXTRA
+  ${TOFCOMP_SOURCE_ROOT}/packaging/tofcomp-mqtt-bridge/postinst
+  ${TOFCOMP_SOURCE_ROOT}/packaging/tofcomp-mqtt-bridge/postrm)
+set(CPACK_DEBIAN_MQTT-BRIDGE_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 
 include(CPack)

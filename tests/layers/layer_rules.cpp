@@ -21,6 +21,7 @@ const LayerRules& project_rules() {
        {"core", "io", "calibration", "hal", "ipc", "sim", "realtime", "settings", "daemon"}},
       {"cli",
        {"core", "io", "calibration", "hal", "ipc", "client", "sim", "realtime", "settings", "cli"}},
+      {"bridges", {"core", "io", "ipc", "client", "bridges"}},
   };
   return kRules;
 }
