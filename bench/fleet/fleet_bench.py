@@ -78,9 +78,15 @@ class Fleet:
 
     def start(self):
         config = os.path.join(self.work, "tofcompd.yaml")
+        # The built-in default, its data files named absolutely (its paths are relative to it).
+        data = os.path.join(self.build, "share/tofcomp")
+        text = subprocess.run([os.path.join(self.build, "daemon/tofcompd"),
+                               "--print-default-config"], capture_output=True, text=True,
+                              check=True).stdout
+        text = text.replace("scenario: scenarios/", f"scenario: {data}/scenarios/")
+        text = text.replace("file: calibration.yaml", f"file: {data}/calibration.yaml")
         with open(config, "w") as f:
-            subprocess.run([os.path.join(self.build, "daemon/tofcompd"), "--print-default-config"],
-                           stdout=f, check=True)
+            f.write(text)
         for i in range(self.count):
             log = open(os.path.join(self.work, f"d{i}.log"), "w")
             self.daemons.append(subprocess.Popen(

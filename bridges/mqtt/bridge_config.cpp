@@ -97,7 +97,9 @@ PublishPeriods read_publish(const io::YamlMap& root) {
   const auto map = io::fields::section(
       root, "publish", {"status_ms", "junction_ms", "diagnosis_ms", "ranges_ms", "ranges_beam_step"});
   if (!map) return out;
-  out.status = io::fields::milliseconds(*map, "status_ms", between(100, 3600000), out.status);
+  // At most half tofcompd's idle_timeout_s (60 s by default): the status requests keep the
+  // control connection open.
+  out.status = io::fields::milliseconds(*map, "status_ms", between(100, 30000), out.status);
   out.junction = io::fields::milliseconds(*map, "junction_ms", between(0, 3600000), out.junction);
   out.diagnosis =
       io::fields::milliseconds(*map, "diagnosis_ms", between(100, 3600000), out.diagnosis);

@@ -80,7 +80,11 @@ sub() { mosquitto_sub -h 127.0.0.1 -p "$plain" "$@"; }
 pub() { mosquitto_pub -h 127.0.0.1 -p "$plain" "$@"; }
 
 # --- tofcompd on its emulated LMS 200, with a configuration file a reload can re-read ----------
-"$tofcompd" --print-default-config > tofcompd.yaml
+# The built-in default with its data files named absolutely (its paths are relative to the file).
+data="$build/share/tofcomp"
+"$tofcompd" --print-default-config |
+  sed -e "s|scenario: scenarios/|scenario: $data/scenarios/|" \
+      -e "s|file: calibration.yaml|file: $data/calibration.yaml|" > tofcompd.yaml
 start_tofcompd() {
   "$tofcompd" --config tofcompd.yaml --socket "$work/tofcompd.sock" --shm "/$tag" \
     >> "$work/tofcompd.log" 2>&1 &
@@ -193,12 +197,14 @@ retained "$base/diagnosis" | python3 -c 'import json,sys; d=json.load(sys.stdin)
 # Commands: a subscriber on the reply topic, known to be subscribed once it saw a probe.
 ask() {  # PAYLOAD; prints the reply
   local out="$work/reply.$RANDOM"
-  sub -t "$base/reply" -t "$base/probe" -C 2 -W 40 > "$out" &
+  sub -v -t "$base/reply" -t "$base/probe" > "$out" &
   local listener=$!
-  wait_for "the reply subscriber" sh -c "mosquitto_pub -h 127.0.0.1 -p $plain -t $base/probe -m probe && grep -q probe '$out'"
+  wait_for "the reply subscriber" sh -c \
+    "mosquitto_pub -h 127.0.0.1 -p $plain -t $base/probe -m probe && grep -q '^$base/probe ' '$out'"
   pub -t "$base/command" -q 1 -m "$1"
-  wait "$listener" || fail "no reply to $1"
-  grep -v '^probe$' "$out"
+  wait_for "a reply to $1" grep -q "^$base/reply " "$out"
+  kill "$listener"; wait "$listener" 2> /dev/null || true
+  sed -n "s|^$base/reply ||p" "$out"
 }
 reply=$(ask '{"id":1,"op":"reload"}')
 echo "$reply" | grep -qF '{"id":1,"ok":false,"error":{"code":"forbidden","message":"reload: not allowed by this bridge: commands.reload is false in' ||
