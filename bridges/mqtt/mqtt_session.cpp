@@ -96,7 +96,6 @@ void MqttSession::subscribe(const std::string& topic, Qos qos) {
 }
 
 void MqttSession::start() {
-  check(mosquitto_threaded_set(client_, true), "threads");
   // A first connect that fails (no broker yet) is retried by the network thread.
   const int rc = mosquitto_connect_async(client_, host_.c_str(), port_, keepalive_s_);
   if (rc != MOSQ_ERR_SUCCESS) {
