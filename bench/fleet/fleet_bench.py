@@ -12,7 +12,8 @@ For each N (default 1, 10, 50) it measures over a window after a warm-up:
     (utime + stime) at the window's start and end.
 
 Usage: python3 bench/fleet/fleet_bench.py [--build build] [--counts 1,10,50] [--seconds 30]
-Needs mosquitto and mosquitto-clients (tools/setup.sh). Writes the table to stdout and the
+Needs mosquitto and mosquitto-clients (tools/setup.sh); TOFCOMPD and TOFCOMP name another build's
+programs. Writes the table to stdout and the
 figures as JSON to --json (default: fleet_bench.json in the working directory).
 """
 import argparse
@@ -65,6 +66,8 @@ def wait_until(what, check, deadline_s=START_DEADLINE_S):
 class Fleet:
     def __init__(self, build, work, port, count, tag):
         self.build, self.work, self.port, self.count, self.tag = build, work, port, count, tag
+        self.tofcomp = os.environ.get("TOFCOMP", os.path.join(build, "cli/tofcomp"))
+        self.tofcompd = os.environ.get("TOFCOMPD", os.path.join(build, "daemon/tofcompd"))
         self.daemons, self.bridges = [], []
 
     def sock(self, i):
@@ -72,15 +75,15 @@ class Fleet:
 
     def publishing(self, i):
         result = subprocess.run(
-            [os.path.join(self.build, "cli/tofcomp"), "query", "--socket", self.sock(i),
+            [self.tofcomp, "query", "--socket", self.sock(i),
              "--timeout", "1", "status"], capture_output=True, text=True)
         return "status.state: publishing" in result.stdout
 
     def start(self):
         config = os.path.join(self.work, "tofcompd.yaml")
         # The built-in default, its data files named absolutely (its paths are relative to it).
-        data = os.path.join(self.build, "share/tofcomp")
-        text = subprocess.run([os.path.join(self.build, "daemon/tofcompd"),
+        data = os.path.join(os.path.dirname(self.tofcompd), "../share/tofcomp")
+        text = subprocess.run([self.tofcompd,
                                "--print-default-config"], capture_output=True, text=True,
                               check=True).stdout
         text = text.replace("scenario: scenarios/", f"scenario: {data}/scenarios/")
@@ -90,7 +93,7 @@ class Fleet:
         for i in range(self.count):
             log = open(os.path.join(self.work, f"d{i}.log"), "w")
             self.daemons.append(subprocess.Popen(
-                [os.path.join(self.build, "daemon/tofcompd"), "--config", config,
+                [self.tofcompd, "--config", config,
                  "--socket", self.sock(i), "--shm", f"/{self.tag}-{i}"],
                 stdout=log, stderr=subprocess.STDOUT))
         for i in range(self.count):

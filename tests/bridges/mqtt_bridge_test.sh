@@ -11,8 +11,9 @@
 set -euo pipefail
 build=$1
 bridge="$build/bridges/mqtt/tofcomp-mqtt-bridge"
-tofcompd="$build/daemon/tofcompd"
-tofcomp="$build/cli/tofcomp"
+# TOFCOMPD, TOFCOMP: the programs of another build of this tree (while this one lacks them).
+tofcompd="${TOFCOMPD:-$build/daemon/tofcompd}"
+tofcomp="${TOFCOMP:-$build/cli/tofcomp}"
 work=$(mktemp -d)
 tag="mqtt-test-$$"
 pids=()
@@ -81,7 +82,7 @@ pub() { mosquitto_pub -h 127.0.0.1 -p "$plain" "$@"; }
 
 # --- tofcompd on its emulated LMS 200, with a configuration file a reload can re-read ----------
 # The built-in default with its data files named absolutely (its paths are relative to the file).
-data="$build/share/tofcomp"
+data="$(dirname "$tofcompd")/../share/tofcomp"
 "$tofcompd" --print-default-config |
   sed -e "s|scenario: scenarios/|scenario: $data/scenarios/|" \
       -e "s|file: calibration.yaml|file: $data/calibration.yaml|" > tofcompd.yaml
