@@ -9,7 +9,7 @@
 # a wrong password and an unknown CA refused with a clear error; a world-readable password file
 # refused.
 set -euo pipefail
-build=$1
+build=$(cd "$1" && pwd)
 bridge="$build/bridges/mqtt/tofcomp-mqtt-bridge"
 # TOFCOMPD, TOFCOMP: the programs of another build of this tree (while this one lacks them).
 tofcompd="${TOFCOMPD:-$build/daemon/tofcompd}"
@@ -162,7 +162,7 @@ EOF
 retained "$base/calibration" | grep -q '"id":1' || fail "no retained calibration 1"
 
 # Junction: per scan (junction_ms 0), against the same scans subscribed through the socket.
-sub -t "$base/junction" -C 30 -W 30 > junction.txt &
+mosquitto_sub -h 127.0.0.1 -p "$plain" -t "$base/junction" -C 30 -W 30 > junction.txt &
 junction_sub=$!
 "$tofcomp" query --socket "$work/tofcompd.sock" subscribe -n 60 --beams 0:0 --json > scans.txt
 wait "$junction_sub" || fail "fewer than 30 junction messages in 30 s"
@@ -186,7 +186,8 @@ python3 - ranges.json <<'EOF' || fail "ranges summary malformed"
 import json, sys
 r = json.load(open(sys.argv[1]))
 assert r["beam_step"] == 4 and len(r["mean_mm"]) == 91 == len(r["std_mm"]) == len(r["valid_share"]), r.keys()
-assert r["scans"] >= 10, r["scans"]
+assert r["scans"] >= 2, r["scans"]  # 37.5 a second on an idle machine; fewer on a loaded one
+assert r["to_ns"] > r["from_ns"] and all(0 <= v <= 1 for v in r["valid_share"])
 wall = r["mean_mm"][45]  # beam 180, straight ahead: the default scenario's wall at 3000 mm
 assert abs(wall - 3000) < 20, wall
 assert set(r["flag_share"]) >= {"no_echo", "temperature_extrapolated"}
@@ -198,7 +199,7 @@ retained "$base/diagnosis" | python3 -c 'import json,sys; d=json.load(sys.stdin)
 # Commands: a subscriber on the reply topic, known to be subscribed once it saw a probe.
 ask() {  # PAYLOAD; prints the reply
   local out="$work/reply.$RANDOM"
-  sub -v -t "$base/reply" -t "$base/probe" > "$out" &
+  mosquitto_sub -h 127.0.0.1 -p "$plain" -v -t "$base/reply" -t "$base/probe" > "$out" &
   local listener=$!
   wait_for "the reply subscriber" sh -c \
     "mosquitto_pub -h 127.0.0.1 -p $plain -t $base/probe -m probe && grep -q '^$base/probe ' '$out'"
@@ -240,7 +241,7 @@ echo "$reply" | grep -qF '{"id":7,"ok":true,"message":"reloaded' || fail "reload
   fail "tofcompd did not count the reload"
 reply=$(ask '{"id":8,"op":"recalibrate"}')
 echo "$reply" | grep -qF 'commands.recalibrate is false' || fail "recalibrate allowed with reload: $reply"
-echo "reload is executed when allowed: $reply"
+echo "reload is executed when allowed, recalibrate still refused"
 
 # tofcompd goes away: the status topic says so; it comes back: the bridge reads it again.
 kill "$tofcompd_pid"; wait "$tofcompd_pid" || true
