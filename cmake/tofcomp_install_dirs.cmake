@@ -8,3 +8,10 @@ else()
   set(TOFCOMP_CONFDIR "${CMAKE_INSTALL_PREFIX}/etc/tofcompd")
 endif()
 set(TOFCOMP_BINDIR "${CMAKE_INSTALL_PREFIX}/bin")
+# tofcomp-mqtt-bridge's configurations (one per instance, with their password files) beside it:
+# /etc/tofcomp-mqtt-bridge with the prefix /usr.
+if(CMAKE_INSTALL_PREFIX STREQUAL "/usr")
+  set(TOFCOMP_BRIDGE_CONFDIR "/etc/tofcomp-mqtt-bridge")
+else()
+  set(TOFCOMP_BRIDGE_CONFDIR "${CMAKE_INSTALL_PREFIX}/etc/tofcomp-mqtt-bridge")
+endif()

@@ -12,13 +12,15 @@
 #                                         keeps Python modules out of library packages)
 #   ros2-bridge -> tofcomp-ros2-bridge    the bridge to ROS 2 over DDS, its unit (not enabled)
 #                                         and /etc/tofcompd/ros2-bridge.yaml (enabled: false)
+#   mqtt-bridge -> tofcomp-mqtt-bridge    the MQTT bridge, its unit template, example
+#                                         configuration and man page 8
 # A component that no install rule fills is left out, so the list follows what the tree builds.
 # Built with `cpack --config build/CPackConfig.cmake -B DIR` (tests/install/packages_test.sh);
 # the binaries are stripped as they are packaged.
 # Included last by the top-level CMakeLists.txt, after every install rule.
 get_cmake_property(TOFCOMP_INSTALL_COMPONENTS COMPONENTS)
 set(TOFCOMP_PACKAGE_COMPONENTS)
-foreach(component daemon cli client client-dev python ros2-bridge)
+foreach(component daemon cli client client-dev python ros2-bridge mqtt-bridge)
   if(component IN_LIST TOFCOMP_INSTALL_COMPONENTS)
     list(APPEND TOFCOMP_PACKAGE_COMPONENTS ${component})
   endif()
@@ -30,12 +32,14 @@ set(TOFCOMP_PACKAGE_client libtofcomp-client0)
 set(TOFCOMP_PACKAGE_client-dev libtofcomp-client-dev)
 set(TOFCOMP_PACKAGE_python python3-tofcomp-client)
 set(TOFCOMP_PACKAGE_ros2-bridge tofcomp-ros2-bridge)
+set(TOFCOMP_PACKAGE_mqtt-bridge tofcomp-mqtt-bridge)
 set(TOFCOMP_SUMMARY_daemon "LiDAR temperature and mode-hopping compensation daemon")
 set(TOFCOMP_SUMMARY_cli "LiDAR temperature and mode-hopping compensation tools")
 set(TOFCOMP_SUMMARY_client "client library of the tofcompd LiDAR compensation daemon")
 set(TOFCOMP_SUMMARY_client-dev "client library of tofcompd: development files")
 set(TOFCOMP_SUMMARY_python "client library of tofcompd: Python 3 module")
 set(TOFCOMP_SUMMARY_ros2-bridge "tofcompd's compensated LiDAR scans to ROS 2 over DDS")
+set(TOFCOMP_SUMMARY_mqtt-bridge "MQTT bridge of the tofcompd LiDAR compensation daemon")
 set(TOFCOMP_DESCRIPTION_daemon
   "tofcompd reads a SICK LMS 200 over its serial link and a thermometer on its
 case, compensates each range for the laser's junction temperature and lasing
@@ -55,6 +59,11 @@ set(TOFCOMP_DESCRIPTION_ros2-bridge
   "tofcomp-ros2-bridge publishes tofcompd's scans as sensor_msgs/msg/LaserScan
 and the scanner's health as diagnostic_msgs/msg/DiagnosticArray with Cyclone
 DDS, as a ROS 2 node would (rt/scan, rt/diagnostics). Off until configured.")
+set(TOFCOMP_DESCRIPTION_mqtt-bridge
+  "tofcomp-mqtt-bridge publishes one tofcompd's status, calibration, junction
+temperature, diagnosis findings and a summary of its compensated ranges to an
+MQTT broker, with a retained online state and TLS, and passes the reload and
+recalibrate commands its configuration allows (tofcomp-mqtt-bridge@.service).")
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME tofcomp)
@@ -83,6 +92,8 @@ set(CPACK_COMPONENT_CLIENT-DEV_DEPENDS client)
 set(CPACK_COMPONENT_PYTHON_DEPENDS client)
 # The bridge's unit runs in the tofcompd group that the daemon's package makes.
 set(CPACK_COMPONENT_ROS2-BRIDGE_DEPENDS daemon)
+# The bridge runs as tofcompd's user, which the daemon's package makes.
+set(CPACK_COMPONENT_MQTT-BRIDGE_DEPENDS daemon)
 set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS python3)
 set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
 set(CPACK_DEBIAN_PYTHON_PACKAGE_ARCHITECTURE all)
@@ -126,5 +137,10 @@ set(CPACK_DEBIAN_DAEMON_PACKAGE_CONTROL_EXTRA
 set(CPACK_DEBIAN_DAEMON_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(CPACK_DEBIAN_ROS2-BRIDGE_PACKAGE_CONTROL_EXTRA
   ${TOFCOMP_SOURCE_ROOT}/packaging/tofcomp-ros2-bridge/conffiles)
+# The bridge's package: systemd learns of its unit template (not enabled).
+set(CPACK_DEBIAN_MQTT-BRIDGE_PACKAGE_CONTROL_EXTRA
+  ${TOFCOMP_SOURCE_ROOT}/packaging/tofcomp-mqtt-bridge/postinst
+  ${TOFCOMP_SOURCE_ROOT}/packaging/tofcomp-mqtt-bridge/postrm)
+set(CPACK_DEBIAN_MQTT-BRIDGE_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 
 include(CPack)

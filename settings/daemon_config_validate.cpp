@@ -3,7 +3,7 @@
 #include <string>
 #include <utility>
 
-#include "settings/config_fields.hpp"
+#include "io/yaml_typed_fields.hpp"
 #include "settings/daemon_config.hpp"
 #include "settings/daemon_config_error.hpp"
 
@@ -11,7 +11,7 @@ namespace tofcomp::settings {
 
 namespace {
 
-using fields::format_number;
+using io::fields::format_number;
 
 class Rules {
  public:

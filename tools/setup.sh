@@ -14,6 +14,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev
   libbenchmark-dev
   libcli11-dev
+  libmosquitto-dev mosquitto mosquitto-clients openssl
   nlohmann-json3-dev
   libsystemd-dev systemd
   python3 python3-matplotlib python3-numpy

@@ -31,7 +31,10 @@ for f in usr/bin/tofcompd usr/bin/tofcomp etc/tofcompd/tofcompd.yaml \
          usr/share/tofcomp/report/report_figures_em.py \
          usr/share/tofcomp/report/report_figures_ranges.py \
          usr/share/tofcomp/report/report_figures_windows.py \
-         usr/share/tofcomp/report/report_style.py; do
+         usr/share/tofcomp/report/report_style.py \
+         usr/bin/tofcomp-mqtt-bridge usr/lib/systemd/system/tofcomp-mqtt-bridge@.service \
+         usr/share/man/man8/tofcomp-mqtt-bridge.8.gz \
+         usr/share/doc/tofcomp-mqtt-bridge/examples/mqtt-bridge.yaml; do
   [ -e "$stage/$f" ] || { echo "not installed: /$f"; cat "$stage.log"; exit 1; }
 done
 # The units start the installed daemon on the installed configuration.
@@ -45,8 +48,11 @@ grep -qx 'ExecStart=/usr/bin/tofcomp-ros2-bridge --config /etc/tofcompd/ros2-bri
 grep -qx '  enabled: false' "$stage/etc/tofcompd/ros2-bridge.yaml"
 "$stage/usr/bin/tofcomp-ros2-bridge" --config "$stage/etc/tofcompd/ros2-bridge.yaml" --check-config |
   grep -q ': ok$'
+# The MQTT bridge: one unit per instance, on its own configuration.
+grep -qx 'ExecStart=/usr/bin/tofcomp-mqtt-bridge --config /etc/tofcomp-mqtt-bridge/%i.yaml --instance %i' \
+  "$stage/usr/lib/systemd/system/tofcomp-mqtt-bridge@.service"
 # No path of the source or build tree in a binary (the data directory is found from the binary).
-for b in tofcompd tofcomp; do
+for b in tofcompd tofcomp tofcomp-ros2-bridge tofcomp-mqtt-bridge; do
   if strings "$stage/usr/bin/$b" | grep -F -e "$root" -e "$(cd "$build" && pwd)"; then
     echo "/usr/bin/$b holds a path of the build tree"; exit 1
   fi

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The manual pages say what the programs do: every option of `tofcompd --help` is in tofcompd(8),
 # every option of `tofcomp-ros2-bridge --help` in tofcomp-ros2-bridge(8),
+# every option of `tofcomp-mqtt-bridge --help` in tofcomp-mqtt-bridge(8),
 # every subcommand and top-level option of `tofcomp --help` (and --instance of query and
 # shm-dump) in tofcomp(1), every key of docs/configuration.md's tables in tofcompd.yaml(5); and
 # each page renders (build/man/*.gz, by scdoc) to a man page with its NAME section.
@@ -20,6 +21,9 @@ done
 for option in $("$build/bridges/ros2/tofcomp-ros2-bridge" --help | long_options); do
   grep -qF -- "$option*" "$man/tofcomp-ros2-bridge.8.scd" ||
     { echo "tofcomp-ros2-bridge(8) lacks $option"; fail=1; }
+for option in $("$build/bridges/mqtt/tofcomp-mqtt-bridge" --help | long_options); do
+  grep -qF -- "$option*" "$man/tofcomp-mqtt-bridge.8.scd" ||
+    { echo "tofcomp-mqtt-bridge(8) lacks $option"; fail=1; }
 done
 for option in $("$build/cli/tofcomp" --help | long_options); do
   grep -qF -- "$option*" "$man/tofcomp.1.scd" || { echo "tofcomp(1) lacks $option"; fail=1; }
@@ -48,7 +52,7 @@ for key in $keys; do
     { echo "tofcompd.yaml(5) lacks $key"; fail=1; }
 done
 
-for page in tofcompd.8 tofcompd.yaml.5 tofcomp.1; do
+for page in tofcompd.8 tofcompd.yaml.5 tofcomp.1 tofcomp-mqtt-bridge.8; do
   zcat "$build/man/$page.gz" | grep -q '^\.SH NAME' || { echo "build/man/$page.gz is no man page"; fail=1; }
 done
 [ "$fail" = 0 ] && echo "man pages hold"

@@ -37,6 +37,17 @@ for f in /usr/bin/tofcomp /usr/share/man/man1/tofcomp.1.gz /usr/share/tofcomp/sc
          /usr/share/doc/tofcomp/deployment.md; do
   grep -qx "$f" "$work/cli.list" || { echo "tofcomp lacks $f"; exit 1; }
 done
+bridge_deb="$work/debs/tofcomp-mqtt-bridge_${version}_amd64.deb"
+contents "$bridge_deb" > "$work/bridge.list"
+for f in /usr/bin/tofcomp-mqtt-bridge /usr/lib/systemd/system/tofcomp-mqtt-bridge@.service \
+         /usr/share/man/man8/tofcomp-mqtt-bridge.8.gz \
+         /usr/share/doc/tofcomp-mqtt-bridge/examples/mqtt-bridge.yaml \
+         /usr/share/doc/tofcomp-mqtt-bridge/copyright; do
+  grep -qx "$f" "$work/bridge.list" || { echo "tofcomp-mqtt-bridge lacks $f"; exit 1; }
+done
+# It runs as tofcompd's user, which the daemon's package makes; libmosquitto from Debian.
+dpkg-deb -f "$bridge_deb" Depends | grep -q "tofcompd (= $version)"
+dpkg-deb -f "$bridge_deb" Depends | grep -q "libmosquitto1"
 if grep -x /usr/bin/tofcomp "$work/daemon.list" || grep -x /usr/bin/tofcompd "$work/cli.list"; then
   echo "a program in the other package"; exit 1
 fi
@@ -74,7 +85,7 @@ dpkg-deb -f "$bridge_deb" Depends | grep -q "libddsc0debian"
 grep -q '^tofcompd:x:[0-9]*:[0-9]*:.*:/var/lib/tofcompd:' "$target/etc/passwd"
 
 # Stripped, with no path of the build or source tree inside; sizes for docs/deployment.md.
-for b in tofcompd tofcomp; do
+for b in tofcompd tofcomp tofcomp-mqtt-bridge; do
   if readelf -S "$target/usr/bin/$b" | grep -E '\.(symtab|debug_info)'; then
     echo "/usr/bin/$b is not stripped"; exit 1
   fi
@@ -89,7 +100,7 @@ data="$target/usr/share/tofcomp"
   grep -qF "valid; calibration $data/calibration.yaml; scenario $data/scenarios/default.yaml"
 # The man pages render.
 for page in usr/share/man/man8/tofcompd.8.gz usr/share/man/man5/tofcompd.yaml.5.gz \
-            usr/share/man/man1/tofcomp.1.gz; do
+            usr/share/man/man1/tofcomp.1.gz usr/share/man/man8/tofcomp-mqtt-bridge.8.gz; do
   zcat "$target/$page" | grep -q '^\.SH NAME' || { echo "$page is no man page"; exit 1; }
 done
 

@@ -1,8 +1,8 @@
-// Typed, range-checked reading of one key of tofcompd.yaml on top of io::YamlMap: numbers and
-// whole numbers within a range, one of a set of names or values, paths resolved against the
-// configuration's directory, octal file modes, optional sections. Every failure is an
-// io::YamlSchemaError naming the key path and what was expected ("outputs.shm.slots must be at
-// least 2, not 1"). Internal to the configuration reader.
+// Typed, range-checked reading of one key of a strict YAML file (tofcompd.yaml, the MQTT
+// bridge's configuration) on top of io::YamlMap: numbers and whole numbers within a range, one of
+// a set of names or values, paths resolved against the configuration's directory, octal file
+// modes, optional sections. Every failure is an io::YamlSchemaError naming the key path and what
+// was expected ("outputs.shm.slots must be at least 2, not 1").
 #pragma once
 
 #include <chrono>
@@ -16,7 +16,7 @@
 
 #include "io/yaml_fields.hpp"
 
-namespace tofcomp::settings::fields {
+namespace tofcomp::io::fields {
 
 // An interval of the real line; either end open or closed, or unbounded.
 struct Range {
@@ -111,4 +111,4 @@ std::string format_octal_mode(unsigned mode);
 std::optional<io::YamlMap> section(const io::YamlMap& parent, std::string_view key,
                                    std::initializer_list<std::string_view> allowed);
 
-}  // namespace tofcomp::settings::fields
+}  // namespace tofcomp::io::fields

@@ -1,11 +1,11 @@
-// Typed, range-checked reading of one key of tofcompd.yaml.
-#include "settings/config_fields.hpp"
+// Typed, range-checked reading of one key of a strict YAML file.
+#include "io/yaml_typed_fields.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <utility>
 
-namespace tofcomp::settings::fields {
+namespace tofcomp::io::fields {
 
 bool Range::contains(double value) const {
   const bool above_min = min_exclusive ? value > min : value >= min;
@@ -210,4 +210,4 @@ std::optional<io::YamlMap> section(const io::YamlMap& parent, std::string_view k
   return io::YamlMap(node, parent.child_path(key), allowed);
 }
 
-}  // namespace tofcomp::settings::fields
+}  // namespace tofcomp::io::fields
