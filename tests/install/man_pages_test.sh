@@ -21,6 +21,7 @@ done
 for option in $("$build/bridges/ros2/tofcomp-ros2-bridge" --help | long_options); do
   grep -qF -- "$option*" "$man/tofcomp-ros2-bridge.8.scd" ||
     { echo "tofcomp-ros2-bridge(8) lacks $option"; fail=1; }
+done
 for option in $("$build/bridges/mqtt/tofcomp-mqtt-bridge" --help | long_options); do
   grep -qF -- "$option*" "$man/tofcomp-mqtt-bridge.8.scd" ||
     { echo "tofcomp-mqtt-bridge(8) lacks $option"; fail=1; }
@@ -52,7 +53,7 @@ for key in $keys; do
     { echo "tofcompd.yaml(5) lacks $key"; fail=1; }
 done
 
-for page in tofcompd.8 tofcompd.yaml.5 tofcomp.1 tofcomp-mqtt-bridge.8; do
+for page in tofcompd.8 tofcompd.yaml.5 tofcomp.1 tofcomp-ros2-bridge.8 tofcomp-mqtt-bridge.8; do
   zcat "$build/man/$page.gz" | grep -q '^\.SH NAME' || { echo "build/man/$page.gz is no man page"; fail=1; }
 done
 [ "$fail" = 0 ] && echo "man pages hold"

@@ -37,8 +37,8 @@ for f in /usr/bin/tofcomp /usr/share/man/man1/tofcomp.1.gz /usr/share/tofcomp/sc
          /usr/share/doc/tofcomp/deployment.md; do
   grep -qx "$f" "$work/cli.list" || { echo "tofcomp lacks $f"; exit 1; }
 done
-bridge_deb="$work/debs/tofcomp-mqtt-bridge_${version}_amd64.deb"
-contents "$bridge_deb" > "$work/bridge.list"
+mqtt_deb="$work/debs/tofcomp-mqtt-bridge_${version}_amd64.deb"
+contents "$mqtt_deb" > "$work/bridge.list"
 for f in /usr/bin/tofcomp-mqtt-bridge /usr/lib/systemd/system/tofcomp-mqtt-bridge@.service \
          /usr/share/man/man8/tofcomp-mqtt-bridge.8.gz \
          /usr/share/doc/tofcomp-mqtt-bridge/examples/mqtt-bridge.yaml \
@@ -46,8 +46,8 @@ for f in /usr/bin/tofcomp-mqtt-bridge /usr/lib/systemd/system/tofcomp-mqtt-bridg
   grep -qx "$f" "$work/bridge.list" || { echo "tofcomp-mqtt-bridge lacks $f"; exit 1; }
 done
 # It runs as tofcompd's user, which the daemon's package makes; libmosquitto from Debian.
-dpkg-deb -f "$bridge_deb" Depends | grep -q "tofcompd (= $version)"
-dpkg-deb -f "$bridge_deb" Depends | grep -q "libmosquitto1"
+dpkg-deb -f "$mqtt_deb" Depends | grep -q "tofcompd (= $version)"
+dpkg-deb -f "$mqtt_deb" Depends | grep -q "libmosquitto1"
 if grep -x /usr/bin/tofcomp "$work/daemon.list" || grep -x /usr/bin/tofcompd "$work/cli.list"; then
   echo "a program in the other package"; exit 1
 fi
@@ -75,17 +75,17 @@ if [ -f "$work/debs/libtofcomp-client0_${version}_amd64.deb" ]; then
   dpkg --root="$target" -L python3-tofcomp-client | grep -qx /usr/lib/python3/dist-packages/tofcomp_client.py
 fi
 # The ROS 2 bridge's package: the program, its unit (not enabled) and its configuration, a conffile.
-bridge_deb="$work/debs/tofcomp-ros2-bridge_${version}_amd64.deb"
+ros2_deb="$work/debs/tofcomp-ros2-bridge_${version}_amd64.deb"
 dpkg --root="$target" -L tofcomp-ros2-bridge | grep -qx /usr/bin/tofcomp-ros2-bridge
 dpkg --root="$target" -L tofcomp-ros2-bridge | grep -qx /usr/share/man/man8/tofcomp-ros2-bridge.8.gz
 dpkg --root="$target" -L tofcomp-ros2-bridge | grep -qx /usr/lib/systemd/system/tofcomp-ros2-bridge.service
-dpkg-deb -I "$bridge_deb" conffiles | grep -qx /etc/tofcompd/ros2-bridge.yaml
-dpkg-deb -f "$bridge_deb" Depends | grep -q "tofcompd (= $version)"
-dpkg-deb -f "$bridge_deb" Depends | grep -q "libddsc0debian"
+dpkg-deb -I "$ros2_deb" conffiles | grep -qx /etc/tofcompd/ros2-bridge.yaml
+dpkg-deb -f "$ros2_deb" Depends | grep -q "tofcompd (= $version)"
+dpkg-deb -f "$ros2_deb" Depends | grep -q "libddsc0debian"
 grep -q '^tofcompd:x:[0-9]*:[0-9]*:.*:/var/lib/tofcompd:' "$target/etc/passwd"
 
 # Stripped, with no path of the build or source tree inside; sizes for docs/deployment.md.
-for b in tofcompd tofcomp tofcomp-mqtt-bridge; do
+for b in tofcompd tofcomp tofcomp-ros2-bridge tofcomp-mqtt-bridge; do
   if readelf -S "$target/usr/bin/$b" | grep -E '\.(symtab|debug_info)'; then
     echo "/usr/bin/$b is not stripped"; exit 1
   fi
@@ -100,7 +100,8 @@ data="$target/usr/share/tofcomp"
   grep -qF "valid; calibration $data/calibration.yaml; scenario $data/scenarios/default.yaml"
 # The man pages render.
 for page in usr/share/man/man8/tofcompd.8.gz usr/share/man/man5/tofcompd.yaml.5.gz \
-            usr/share/man/man1/tofcomp.1.gz usr/share/man/man8/tofcomp-mqtt-bridge.8.gz; do
+            usr/share/man/man1/tofcomp.1.gz usr/share/man/man8/tofcomp-ros2-bridge.8.gz \
+            usr/share/man/man8/tofcomp-mqtt-bridge.8.gz; do
   zcat "$target/$page" | grep -q '^\.SH NAME' || { echo "$page is no man page"; exit 1; }
 done
 
