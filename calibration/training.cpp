@@ -105,7 +105,8 @@ core::TrainingChoices record_choices(const Training& t) {
 // chosen; the EM starts from the structure search's fit, or from a fit at the given structure.
 JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSettings& settings,
                                       const core::MapFitResult& case_fit,
-                                      const core::ThermalNoise& noise, const core::Basis& basis,
+                                      const core::ThermalNoise& noise,
+                                      const SmoothedJunction& junction, const core::Basis& basis,
                                       const core::EmTrainOptions& em,
                                       const std::optional<core::EmStartingPoint>& structure_fit) {
   JunctionDynamicsOptions options = settings.junction_dynamics;
@@ -115,8 +116,6 @@ JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSetti
   if (structure_fit) {
     start = *structure_fit;
   } else {
-    const SmoothedJunction junction = junction_at_ranges(
-        data, case_fit.parameters, noise, settings.thermal.ambient_fallback_c);
     core::EmTrainOptions first = options.em;
     first.modes = em.modes;
     first.record_trace = false;
@@ -183,7 +182,8 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   if (settings.junction_from_ranges && t.thermal.map && !too_few_to_choose) {
     report(progress, kSearchShare, "junction dynamics from the ranges");
     t.junction_dynamics =
-        complete_junction(data, settings, *t.thermal.map, noise, basis, em, structure_fit);
+        complete_junction(data, settings, *t.thermal.map, noise, t.junction, basis, em,
+                          structure_fit);
     if (t.junction_dynamics->replaced) {
       t.thermal_parameters = with_junction_dynamics(t.thermal_parameters,
                                                     t.junction_dynamics->best.dynamics);
@@ -197,9 +197,12 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   const Eigen::MatrixXd h = basis.design_matrix(t.junction.junction_c);
   // The final fit starts where the search's (looser) fit of the chosen candidate ended, unless
   // the paper's start (Eq. 20) or M-step (Eq. 19 as printed) is asked for, to reproduce them.
+  // θ's coordinates change with the basis's rescaling when the junction was replaced: then θ
+  // starts at least squares.
   if (structure_fit && em.initialization == core::EmInitialization::Quantiles &&
       em.m_step == core::MStep::Exact) {
-    em.start = least_squares_start(h, y_minus_d, structure_fit->mixture);
+    const bool rescaled = t.junction_dynamics && t.junction_dynamics->replaced;
+    em.start = rescaled ? least_squares_start(h, y_minus_d, structure_fit->mixture) : *structure_fit;
   }
   t.em = core::train_em(h, y_minus_d, em);
 
