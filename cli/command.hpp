@@ -20,6 +20,7 @@ struct CommandResult {
   nlohmann::json json;
   std::string text;
   bool streamed = false;  // printed as it went (query subscribe): main prints nothing more
+  int exit_status = 0;    // printed in full, yet some of the work failed (calibrate-dir): 1
 };
 
 using CommandRunner = std::function<CommandResult()>;
@@ -32,6 +33,7 @@ void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& 
 void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner& run);
+void register_calibrate_dir(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_emulate(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_scan(CLI::App& app, const CommonOptions& common, CommandRunner& run);
 void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& run);

@@ -22,11 +22,7 @@ namespace {
 
 struct SearchSettings {
   std::string calibration;  // empty: train one
-  std::string windows = "200,400,800";
-  long stride = 10;
   std::string calibration_output;
-  double alpha = 0.05;
-  int max_steps = 3;
   int threads = 0;
 };
 
@@ -68,19 +64,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("--calibration", s->calibration,
                   "A calibration trained on these data to start from (default: train one)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--windows", s->windows, "Window lengths of the held-out d hat comparison")
-      ->capture_default_str();
-  cmd->add_option("--stride", s->stride, "Ranges between held-out windows")
-      ->capture_default_str()
-      ->check(at_least(1));
-  cmd->add_option("--alpha", s->alpha,
-                  "Family-wise false-alarm level: data with nothing missing keep a term with at "
-                  "most this probability")
-      ->capture_default_str()
-      ->check(between(1e-9, 0.5));
-  cmd->add_option("--max-steps", s->max_steps, "Terms added at most (forward selection)")
-      ->capture_default_str()
-      ->check(between(1, 10));
+  auto search_options = add_search_options(*cmd);
   cmd->add_option("--threads", s->threads, "Fits run at once: the structure search's folds and the model search's candidates "
                   "(default: one per core; the results do not depend on it)")
       ->check(between(1, 256));
@@ -88,18 +72,13 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
                   "Write the calibration with the kept terms (for tofcomp test, replay and "
                   "tofcompd)");
   auto report = add_report_options(*cmd);
-  cmd->callback([&common, &run, data, training, s, report] {
-    run = [&common, data, training, s, report] {
+  cmd->callback([&common, &run, data, training, s, search_options, report] {
+    run = [&common, data, training, s, search_options, report] {
       report->check_if_requested();
       Progress progress("diagnose", !common.quiet);
       const calibration::MeasuredData measured = data->load();
       measured.require_true_ranges();
-      calibration::ModelSearchOptions options;
-      options.windows = parse_windows(s->windows);
-      options.stride = s->stride;
-      options.alpha = s->alpha;
-      options.max_steps = s->max_steps;
-      options.threads = s->threads;
+      const calibration::ModelSearchOptions options = search_options->options(s->threads);
       const Base base = base_model(measured, *s, training->settings(), progress);
       const calibration::ModelSearchResult search = calibration::search_model(
           measured, base.calibration, base.junction, options,

@@ -27,10 +27,8 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
       io::write_calibration_file(*output, t.calibration);
       progress.done("wrote " + *output);
       CommandResult result;
-      result.json = {{"calibration", to_json(t.calibration)}, {"thermal_fit", to_json(t.thermal)},
-                     {"choices", choices_json(t)},
-                     {"em_iterations", t.em.iterations},      {"em_converged", t.em.converged},
-                     {"log_likelihood", t.em.log_likelihood}, {"output", *output}};
+      result.json = training_json(t);
+      result.json["output"] = *output;
       result.text = thermal_fit_text(t.thermal) + choices_text(t) + calibration_text(t.calibration) +
                     "EM: " + std::to_string(t.em.iterations) + " iterations" +
                     (t.em.converged ? "" : " (cap reached)") + "\nwrote " + *output + "\n";

@@ -1,7 +1,8 @@
 // tofcomp: the command line over measured data — simulate, thermal-fit, train, select, test,
-// evaluate, diagnose — and the LMS 200 link: an emulated device (emulate), a host (scan). Results
-// go to stdout (text, or JSON with --json); progress and errors to stderr. Exit status: 0 success,
-// 1 the work failed (the message says why), 2 bad command line.
+// evaluate, diagnose, calibrate-dir — and the LMS 200 link: an emulated device (emulate), a host
+// (scan). Results go to stdout (text, or JSON with --json); progress and errors to stderr. Exit
+// status: 0 success, 1 the work failed (the message says why; calibrate-dir: some recording
+// failed, its row says why), 2 bad command line.
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   register_test(app, common, run);
   register_evaluate(app, common, run);
   register_diagnose(app, common, run);
+  register_calibrate_dir(app, common, run);
   register_emulate(app, common, run);
   register_scan(app, common, run);
   register_shm_dump(app, common, run);
@@ -56,7 +58,7 @@ int main(int argc, char** argv) {
     } else {
       std::cout << result.text;
     }
-    return 0;
+    return result.exit_status;
   } catch (const tofcomp::core::Error& e) {
     std::fprintf(stderr, "tofcomp %s: error: %s\n", name.c_str(), e.what());
   } catch (const std::exception& e) {

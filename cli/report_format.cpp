@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "cli/structure_format.hpp"
+
 namespace tofcomp::cli {
 
 nlohmann::json to_json(const core::ErrorMoments& m) {
@@ -117,6 +119,12 @@ nlohmann::json to_json(const core::Calibration& c) {
           {"modes", modes},
           {"samples", c.provenance.samples},
           {"data_set", c.provenance.data_set}};
+}
+
+nlohmann::json training_json(const calibration::Training& t) {
+  return {{"calibration", to_json(t.calibration)}, {"thermal_fit", to_json(t.thermal)},
+          {"choices", choices_json(t)},           {"em_iterations", t.em.iterations},
+          {"em_converged", t.em.converged},       {"log_likelihood", t.em.log_likelihood}};
 }
 
 nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluations) {

@@ -16,6 +16,9 @@ nlohmann::json to_json(const core::ErrorMoments& m);
 nlohmann::json to_json(const calibration::ThermalFit& fit);
 nlohmann::json to_json(const core::Calibration& c);
 nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluations);
+// What `tofcomp train --json` prints of a training: {calibration, thermal_fit, choices,
+// em_iterations, em_converged, log_likelihood}.
+nlohmann::json training_json(const calibration::Training& t);
 
 std::string thermal_fit_text(const calibration::ThermalFit& fit);
 std::string calibration_text(const core::Calibration& c);

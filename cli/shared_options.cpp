@@ -153,10 +153,38 @@ std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd) {
       ->check(at_least(1));
   cmd.add_option("--junction", o->junction,
                  "The junction's rise P·R1 and time constant R1·C1, which a case log barely "
-                 "shows: ranges (from the ranges' and the case log's joint likelihood, where "
+                 "shows: ranges (from the ranges' likelihood under the datasheet's prior, where "
                  "it rejects the thermal fit's) or case-log (the thermal fit's alone)")
       ->capture_default_str()
       ->check(CLI::IsMember({kJunctionFromRanges, kJunctionFromCaseLog}));
+  return o;
+}
+
+calibration::ModelSearchOptions SearchOptions::options(int threads) const {
+  calibration::ModelSearchOptions o;
+  o.windows = parse_windows(windows);
+  o.stride = stride;
+  o.alpha = alpha;
+  o.max_steps = max_steps;
+  o.threads = threads;
+  return o;
+}
+
+std::shared_ptr<SearchOptions> add_search_options(CLI::App& cmd) {
+  auto o = std::make_shared<SearchOptions>();
+  cmd.add_option("--windows", o->windows, "Window lengths of the held-out d hat comparison")
+      ->capture_default_str();
+  cmd.add_option("--stride", o->stride, "Ranges between held-out windows")
+      ->capture_default_str()
+      ->check(at_least(1));
+  cmd.add_option("--alpha", o->alpha,
+                 "Family-wise false-alarm level: data with nothing missing keep a term with at "
+                 "most this probability")
+      ->capture_default_str()
+      ->check(between(1e-9, 0.5));
+  cmd.add_option("--max-steps", o->max_steps, "Terms added at most (forward selection)")
+      ->capture_default_str()
+      ->check(between(1, 10));
   return o;
 }
 

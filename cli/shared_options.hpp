@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "calibration/measured_data.hpp"
+#include "calibration/model_search.hpp"
 #include "calibration/training.hpp"
 
 namespace tofcomp::cli {
@@ -46,6 +47,17 @@ struct TrainingOptions {
   calibration::TrainSettings settings() const;
 };
 std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd);
+
+// The model search's options (calibration/model_search.hpp), as diagnose and calibrate-dir take them.
+struct SearchOptions {
+  std::string windows = "200,400,800";
+  long stride = 10;
+  double alpha = 0.05;
+  int max_steps = 3;
+  // threads: the fits run at once (0: one per core).
+  calibration::ModelSearchOptions options(int threads) const;
+};
+std::shared_ptr<SearchOptions> add_search_options(CLI::App& cmd);
 
 // "200,400,800" → window lengths.
 std::vector<Eigen::Index> parse_windows(const std::string& list);
