@@ -35,8 +35,10 @@ std::string checked_topic(const io::YamlMap& section, std::string_view key, std:
   return name;
 }
 
-// The socket named by `socket`, by `instance` (its socket), or tofcompd's default one.
-std::string socket_of(const io::YamlMap& section) {
+// The socket named by `socket`, by `instance` (its socket), by the command line's --instance
+// (`command_line_instance`, "" when not given), or tofcompd's default one. A file's `instance`
+// other than the command line's is refused: it is the wrong file for this unit.
+std::string socket_of(const io::YamlMap& section, const std::string& command_line_instance) {
   if (section.has("socket") && section.has("instance")) {
     section.fail("instance", "give either socket or instance, not both");
   }
@@ -45,9 +47,17 @@ std::string socket_of(const io::YamlMap& section) {
     if (const std::string problem = ipc::instance_name_problem(instance); !problem.empty()) {
       section.fail("instance", problem);
     }
+    if (!command_line_instance.empty() && instance != command_line_instance) {
+      section.fail("instance",
+                   "is '" + instance + "', but --instance names '" + command_line_instance + "'");
+    }
     return ipc::instance_socket_path(instance);
   }
-  std::string path = section.text_or("socket", TOFCOMP_DEFAULT_SOCKET_PATH);
+  if (!section.has("socket")) {
+    return command_line_instance.empty() ? std::string(TOFCOMP_DEFAULT_SOCKET_PATH)
+                                         : ipc::instance_socket_path(command_line_instance);
+  }
+  std::string path = section.text("socket");
   if (path.empty() || path.front() != '/') section.fail("socket", "must be an absolute path");
   return path;
 }
@@ -83,7 +93,7 @@ std::string dds_topic_name(const std::string& name) {
 
 namespace {
 
-BridgeConfig bridge_config_of(const YAML::Node& root) {
+BridgeConfig bridge_config_of(const YAML::Node& root, const std::string& instance) {
   const io::YamlMap top(root, "", {"ros2"});
   const io::YamlMap section(top.node("ros2"), top.child_path("ros2"),
                             {"enabled", "domain_id", "frame_id", "scan_topic", "diagnostics_topic",
@@ -105,7 +115,7 @@ BridgeConfig bridge_config_of(const YAML::Node& root) {
   if (dds_topic_name(config.scan_topic) == dds_topic_name(config.diagnostics_topic)) {
     section.fail("diagnostics_topic", "must differ from scan_topic");
   }
-  config.socket_path = socket_of(section);
+  config.socket_path = socket_of(section, instance);
   config.diagnostics_period_s = section.number_or("diagnostics_period_s", config.diagnostics_period_s);
   if (!(config.diagnostics_period_s >= kMinDiagnosticsPeriodS &&
         config.diagnostics_period_s <= kMaxDiagnosticsPeriodS)) {
@@ -119,9 +129,10 @@ BridgeConfig bridge_config_of(const YAML::Node& root) {
 
 // The document's settings, each error prefixed with the source ("bridge.yaml: ros2.domain_id
 // must be ..."); load_yaml_* name the source and the line themselves.
-BridgeConfig bridge_config_in(const YAML::Node& document, const std::string& source) {
+BridgeConfig bridge_config_in(const YAML::Node& document, const std::string& source,
+                              const std::string& instance) {
   try {
-    return bridge_config_of(document);
+    return bridge_config_of(document, instance);
   } catch (const YAML::Exception& e) {
     throw io::YamlSchemaError(io::yaml_position(source, e.mark) + ": " + e.msg);
   } catch (const core::Error& e) {
@@ -129,14 +140,29 @@ BridgeConfig bridge_config_in(const YAML::Node& document, const std::string& sou
   }
 }
 
-}  // namespace
-
-BridgeConfig parse_bridge_config(const std::string& text, const std::string& source) {
-  return bridge_config_in(io::load_yaml_text(text, source), source);
+// A bad --instance is the command line's fault, not the file's: checked before the file is read,
+// so that its error does not name the file.
+void check_command_line_instance(const std::string& instance) {
+  if (!instance.empty()) ipc::check_instance_name(instance);
 }
 
-BridgeConfig load_bridge_config(const std::string& file) {
-  return bridge_config_in(io::load_yaml_file(file), file);
+}  // namespace
+
+BridgeConfig parse_bridge_config(const std::string& text, const std::string& source,
+                                 const std::string& instance) {
+  check_command_line_instance(instance);
+  return bridge_config_in(io::load_yaml_text(text, source), source, instance);
+}
+
+BridgeConfig load_bridge_config(const std::string& file, const std::string& instance) {
+  check_command_line_instance(instance);
+  return bridge_config_in(io::load_yaml_file(file), file, instance);
+}
+
+std::string describe_bridge(const BridgeConfig& config) {
+  return "DDS domain " + std::to_string(config.domain_id) + ", publishing " +
+         dds_topic_name(config.scan_topic) + " and " + dds_topic_name(config.diagnostics_topic) +
+         " from " + config.socket_path;
 }
 
 }  // namespace tofcomp::bridges::ros2

@@ -33,10 +33,21 @@ struct BridgeConfig {
 
 // Parses the text of a configuration file; `source` names it in errors. Throws
 // io::YamlSchemaError (a core::Error) naming the source, the key path and the reason.
-BridgeConfig parse_bridge_config(const std::string& text, const std::string& source);
+// `instance` is the command line's --instance NAME, "" when not given (a single daemon). With a
+// NAME, as tofcomp-mqtt-bridge's: the socket is that instance's unless the file names one
+// (`socket`), and a file whose `instance` names another is refused, so that a per-instance unit
+// (tofcomp-ros2-bridge@NAME.service) never publishes another scanner's scans under its name. A
+// NAME that is no instance name throws core::InvalidInput (ipc::check_instance_name; the command
+// line refuses it first).
+BridgeConfig parse_bridge_config(const std::string& text, const std::string& source,
+                                 const std::string& instance = {});
 
 // Reads and parses a file (io::load_yaml_file's checks: a regular file, at most 16 MiB).
-BridgeConfig load_bridge_config(const std::string& file);
+BridgeConfig load_bridge_config(const std::string& file, const std::string& instance = {});
+
+// What the bridge will do, for its start-up log line and --check-config: "DDS domain 0,
+// publishing rt/scan and rt/diagnostics from /run/tofcompd/tofcompd.sock".
+std::string describe_bridge(const BridgeConfig& config);
 
 // What is wrong with a ROS 2 topic name as this bridge accepts it, or "" when nothing is: one or
 // more tokens of letters, digits and underscores, not starting with a digit, joined by single

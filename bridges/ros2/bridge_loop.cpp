@@ -89,9 +89,7 @@ bool wait_unless_stopped(std::chrono::milliseconds duration, const std::atomic<b
 
 void run_bridge(const BridgeConfig& config, const std::atomic<bool>& stop, std::ostream& log) {
   DdsPublisher dds(config.domain_id, config.scan_topic, config.diagnostics_topic);
-  log << "tofcomp-ros2-bridge: DDS domain " << config.domain_id << ", publishing "
-      << dds_topic_name(config.scan_topic) << " and " << dds_topic_name(config.diagnostics_topic)
-      << " from " << config.socket_path << std::endl;
+  log << "tofcomp-ros2-bridge: " << describe_bridge(config) << std::endl;
   std::string last_error;
   while (!stop.load()) {
     try {

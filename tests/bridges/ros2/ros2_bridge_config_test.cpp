@@ -5,7 +5,9 @@
 #include <string>
 
 #include "bridges/ros2/bridge_config.hpp"
+#include "core/error.hpp"
 #include "io/yaml_fields.hpp"
+#include "ipc/instance_name.hpp"
 
 namespace tofcomp::bridges::ros2 {
 namespace {
@@ -85,6 +87,54 @@ TEST(Ros2BridgeConfig, BadFilesAreRefusedNamingTheKeyAndTheRule) {
   expect_error("ros2:\n  enabled: true\n  diagnostics_period_s: .nan\n", "ros2.diagnostics_period_s");
   expect_error("ros2:\n  enabled: true\n  enabled: false\n", "enabled");  // a key twice
   expect_error("ros2: [1, 2]\n", "ros2");
+}
+
+// --instance NAME (tofcomp-ros2-bridge@NAME.service): the instance's socket unless the file names
+// one; the file may name the same instance, and naming another is refused with the file and key.
+TEST(Ros2BridgeConfig, TheCommandLinesInstanceGivesTheSocketAndRefusesAnother) {
+  const std::string enabled = "ros2:\n  enabled: true\n";
+  EXPECT_EQ(parse_bridge_config(enabled, "front.yaml", "front").socket_path,
+            "/run/tofcompd/front/tofcompd.sock");
+  EXPECT_EQ(parse_bridge_config(enabled + "  instance: front\n", "front.yaml", "front").socket_path,
+            "/run/tofcompd/front/tofcompd.sock");
+  EXPECT_EQ(
+      parse_bridge_config(enabled + "  socket: /tmp/f.sock\n", "front.yaml", "front").socket_path,
+      "/tmp/f.sock");
+  // Without --instance, as before: the single daemon's socket.
+  EXPECT_EQ(parse_bridge_config(enabled, "bridge.yaml").socket_path, "/run/tofcompd/tofcompd.sock");
+
+  try {
+    parse_bridge_config(enabled + "  instance: back\n", "/etc/tofcompd/ros2-bridge/front.yaml",
+                        "front");
+    ADD_FAILURE() << "a file naming instance back was accepted for --instance front";
+  } catch (const io::YamlSchemaError& e) {
+    EXPECT_STREQ(e.what(),
+                 "/etc/tofcompd/ros2-bridge/front.yaml: ros2.instance is 'back', but --instance "
+                 "names 'front'");
+  }
+  // The other rules still hold with --instance.
+  EXPECT_THROW(parse_bridge_config(enabled + "  socket: rel.sock\n", "front.yaml", "front"),
+               io::YamlSchemaError);
+  EXPECT_THROW(parse_bridge_config(enabled + "  socket: /a.sock\n  instance: front\n", "front.yaml",
+                                   "front"),
+               io::YamlSchemaError);
+}
+
+// A bad --instance is refused by the daemon's rule (ipc::instance_name_problem) as the command
+// line's error, not blamed on the file.
+TEST(Ros2BridgeConfig, ABadCommandLineInstanceIsRefusedBeforeTheFile) {
+  // A path, a leading '-', one byte over the longest name ("" is no --instance at all).
+  for (const std::string& bad : {std::string("../etc"), std::string("-front"),
+                                std::string(ipc::kMaxInstanceNameBytes + 1, 'a')}) {
+    try {
+      parse_bridge_config("ros2:\n  enabled: true\n", "bridge.yaml", bad);
+      ADD_FAILURE() << "accepted --instance " << bad;
+    } catch (const io::YamlSchemaError& e) {
+      ADD_FAILURE() << "blamed the file: " << e.what();
+    } catch (const core::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("'" + bad + "'"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Ros2BridgeConfig, AFileIsReadWithItsNameInErrors) {
