@@ -4,9 +4,11 @@
 # data directory land where a Debian system looks for them; the installed /etc/tofcompd/tofcompd.yaml
 # names a real scanner (no emulator) and passes the daemon's check once its state files exist; the
 # emulator runs from the installed data directory only when asked; the installed tofcomp finds its
-# renderer and needs no datasheet file; the ROS 2 bridge's unit and configuration (off) are in
-# place; no path of the build tree is in a binary. Then the prefix
-# /usr/local: the units name that prefix's daemon and configuration.
+# renderer and needs no datasheet file; the ROS 2 bridge's units (the single daemon's and the
+# per-instance template, both passing systemd-analyze verify) and configuration (off) are in
+# place, and --instance gives the instance's socket and refuses a file naming another; no path
+# of the build tree is in a binary. Then the prefix /usr/local: the units name that prefix's
+# daemon, bridge and configuration.
 set -euo pipefail
 build=$1
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -15,7 +17,8 @@ trap 'rm -rf "$stage" "$stage.log"' EXIT
 DESTDIR="$stage" cmake --install "$build" --prefix /usr --strip > "$stage.log"
 for f in usr/bin/tofcompd usr/bin/tofcomp etc/tofcompd/tofcompd.yaml \
          usr/bin/tofcomp-ros2-bridge etc/tofcompd/ros2-bridge.yaml \
-         usr/lib/systemd/system/tofcomp-ros2-bridge.service usr/share/man/man8/tofcomp-ros2-bridge.8.gz \
+         usr/lib/systemd/system/tofcomp-ros2-bridge.service \
+         usr/lib/systemd/system/tofcomp-ros2-bridge@.service usr/share/man/man8/tofcomp-ros2-bridge.8.gz \
          usr/lib/systemd/system/tofcompd.service usr/lib/systemd/system/tofcompd@.service \
          usr/lib/sysusers.d/tofcompd.conf \
          usr/share/man/man8/tofcompd.8.gz usr/share/man/man5/tofcompd.yaml.5.gz \
@@ -47,7 +50,49 @@ grep -qx 'ExecStart=/usr/bin/tofcomp-ros2-bridge --config /etc/tofcompd/ros2-bri
   "$stage/usr/lib/systemd/system/tofcomp-ros2-bridge.service"
 grep -qx '  enabled: false' "$stage/etc/tofcompd/ros2-bridge.yaml"
 "$stage/usr/bin/tofcomp-ros2-bridge" --config "$stage/etc/tofcompd/ros2-bridge.yaml" --check-config |
-  grep -q ': ok$'
+  grep -q ': ok; '
+# Its template: instance %i's configuration in a directory of its own beside that file.
+grep -qx 'ExecStart=/usr/bin/tofcomp-ros2-bridge --config /etc/tofcompd/ros2-bridge/%i.yaml --instance %i' \
+  "$stage/usr/lib/systemd/system/tofcomp-ros2-bridge@.service"
+grep -qx 'Wants=tofcompd@%i.service network-online.target' \
+  "$stage/usr/lib/systemd/system/tofcomp-ros2-bridge@.service"
+grep -qx 'After=tofcompd@%i.service network-online.target' \
+  "$stage/usr/lib/systemd/system/tofcomp-ros2-bridge@.service"
+# Both units confined alike: the template's [Service] after ExecStart= is the single unit's.
+service_tail() { sed -n '/^ExecStart=/,$p' "$stage/usr/lib/systemd/system/$1" | tail -n +2; }
+cmp -s <(service_tail tofcomp-ros2-bridge.service) <(service_tail tofcomp-ros2-bridge@.service) ||
+  { echo "the ROS 2 bridge's units differ after ExecStart="; exit 1; }
+grep -qx 'MemoryDenyWriteExecute=yes' "$stage/usr/lib/systemd/system/tofcomp-ros2-bridge@.service"
+# systemd-analyze verify: both load without a word (an unknown or misspelt key is only a warning,
+# exit status 0, so any output fails), the template as instance front. Their ExecStart= names
+# /usr/bin, here the stage's.
+units="$stage/verify-units"
+mkdir "$units"
+for u in tofcomp-ros2-bridge.service tofcomp-ros2-bridge@.service; do
+  sed "s|=/usr/bin/|=$stage/usr/bin/|" "$stage/usr/lib/systemd/system/$u" > "$units/$u"
+done
+(cd "$units" && systemd-analyze verify --man=no ./tofcomp-ros2-bridge.service \
+   ./tofcomp-ros2-bridge@front.service) > "$stage/verify.log" 2>&1 || { cat "$stage/verify.log"; exit 1; }
+if [ -s "$stage/verify.log" ]; then cat "$stage/verify.log"; exit 1; fi
+# --instance, as the template passes it: the instance's socket unless the file names one, and a
+# file naming another instance refused with the file and the key; a bad NAME is a bad command
+# line (status 2), by the daemon's rule.
+ros2_conf="$stage/ros2-front.yaml"
+printf 'ros2:\n  enabled: true\n  scan_topic: front/scan\n  frame_id: laser_front\n' > "$ros2_conf"
+"$stage/usr/bin/tofcomp-ros2-bridge" --config "$ros2_conf" --instance front --check-config |
+  grep -qx "$ros2_conf: ok; DDS domain 0, publishing rt/front/scan and rt/diagnostics from /run/tofcompd/front/tofcompd.sock"
+printf '  instance: back\n' >> "$ros2_conf"
+if "$stage/usr/bin/tofcomp-ros2-bridge" --config "$ros2_conf" --instance front --check-config \
+     > "$stage/ros2.out" 2>&1; then
+  echo "tofcomp-ros2-bridge --instance front took a file naming instance back"; exit 1
+fi
+grep -qF "$ros2_conf: ros2.instance is 'back', but --instance names 'front'" "$stage/ros2.out" ||
+  { cat "$stage/ros2.out"; exit 1; }
+status=0
+"$stage/usr/bin/tofcomp-ros2-bridge" --config "$ros2_conf" --instance ../front --check-config \
+  > "$stage/ros2.out" 2>&1 || status=$?
+[ "$status" = 2 ] && grep -qF "instance name '../front'" "$stage/ros2.out" ||
+  { echo "--instance ../front: status $status"; cat "$stage/ros2.out"; exit 1; }
 # The MQTT bridge: one unit per instance, on its own configuration.
 grep -qx 'ExecStart=/usr/bin/tofcomp-mqtt-bridge --config /etc/tofcomp-mqtt-bridge/%i.yaml --instance %i' \
   "$stage/usr/lib/systemd/system/tofcomp-mqtt-bridge@.service"
@@ -105,5 +150,10 @@ grep -qx 'ExecStart=/usr/local/bin/tofcompd --config /usr/local/etc/tofcompd/tof
 grep -qx 'ExecStart=/usr/local/bin/tofcompd --config /usr/local/etc/tofcompd/%i.yaml --instance %i' \
   "$local_stage/usr/local/lib/systemd/system/tofcompd@.service"
 test -f "$local_stage/usr/local/etc/tofcompd/tofcompd.yaml"
+DESTDIR="$local_stage" cmake --install "$build" --prefix /usr/local --component ros2-bridge > "$stage.log"
+grep -qx 'ExecStart=/usr/local/bin/tofcomp-ros2-bridge --config /usr/local/etc/tofcompd/ros2-bridge.yaml' \
+  "$local_stage/usr/local/lib/systemd/system/tofcomp-ros2-bridge.service"
+grep -qx 'ExecStart=/usr/local/bin/tofcomp-ros2-bridge --config /usr/local/etc/tofcompd/ros2-bridge/%i.yaml --instance %i' \
+  "$local_stage/usr/local/lib/systemd/system/tofcomp-ros2-bridge@.service"
 test -x "$local_stage/usr/local/bin/tofcompd"
 echo "install layout holds"

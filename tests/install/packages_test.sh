@@ -74,11 +74,13 @@ if [ -f "$work/debs/libtofcomp-client0_${version}_amd64.deb" ]; then
   dpkg --root="$target" -L libtofcomp-client-dev | grep -qx /usr/include/tofcomp/tofcomp_client.h
   dpkg --root="$target" -L python3-tofcomp-client | grep -qx /usr/lib/python3/dist-packages/tofcomp_client.py
 fi
-# The ROS 2 bridge's package: the program, its unit (not enabled) and its configuration, a conffile.
+# The ROS 2 bridge's package: the program, its units (not enabled: the single daemon's and the
+# per-instance template) and its configuration, a conffile.
 ros2_deb="$work/debs/tofcomp-ros2-bridge_${version}_amd64.deb"
 dpkg --root="$target" -L tofcomp-ros2-bridge | grep -qx /usr/bin/tofcomp-ros2-bridge
 dpkg --root="$target" -L tofcomp-ros2-bridge | grep -qx /usr/share/man/man8/tofcomp-ros2-bridge.8.gz
 dpkg --root="$target" -L tofcomp-ros2-bridge | grep -qx /usr/lib/systemd/system/tofcomp-ros2-bridge.service
+dpkg --root="$target" -L tofcomp-ros2-bridge | grep -qx /usr/lib/systemd/system/tofcomp-ros2-bridge@.service
 dpkg-deb -I "$ros2_deb" conffiles | grep -qx /etc/tofcompd/ros2-bridge.yaml
 dpkg-deb -f "$ros2_deb" Depends | grep -q "tofcompd (= $version)"
 dpkg-deb -f "$ros2_deb" Depends | grep -q "libddsc0debian"
