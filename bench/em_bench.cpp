@@ -9,8 +9,10 @@
 #include <random>
 
 #include "core/basis.hpp"
+#include "core/column_products.hpp"
 #include "core/em_test.hpp"
 #include "core/em_train.hpp"
+#include "core/vector_math.hpp"
 
 namespace {
 
@@ -73,6 +75,53 @@ void BM_EmTrainIteration(benchmark::State& state) {
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+// The same iteration on each path of core/vector_math.hpp and core/column_products.hpp
+// (argument 2: 0 portable, 1 AVX2 + FMA; skipped where the CPU lacks it), side by side.
+void BM_EmTrainIterationOnPath(benchmark::State& state) {
+  const auto path = static_cast<tofcomp::core::VectorMathPath>(state.range(2));
+  if (!tofcomp::core::vector_math_path_available(path)) {
+    state.SkipWithError("this CPU cannot run the path");
+    return;
+  }
+  tofcomp::core::pin_vector_math_path(path);
+  BM_EmTrainIteration(state);
+  tofcomp::core::pin_vector_math_path(std::nullopt);
+  state.SetLabel(tofcomp::core::vector_math_path_name(path));
+}
+
+// The exact M-step's products over one chunk of 512 ranges (core/mixture_sweep.cpp): the lower
+// Gram matrix of p columns, their products with M = 2 weight columns and the residual e − Hθ,
+// per path (argument 1).
+void BM_ColumnProducts(benchmark::State& state) {
+  constexpr Eigen::Index kRanges = 512;
+  constexpr Eigen::Index kModes = 2;
+  const Eigen::Index p = state.range(0);
+  const auto path = static_cast<tofcomp::core::VectorMathPath>(state.range(1));
+  if (!tofcomp::core::vector_math_path_available(path)) {
+    state.SkipWithError("this CPU cannot run the path");
+    return;
+  }
+  // Columns kLeading doubles apart, as the sweep lays its chunk out (core/mixture_sweep.cpp).
+  constexpr Eigen::Index kLeading = kRanges + 8;
+  const Eigen::MatrixXd x_storage = Eigen::MatrixXd::Random(kLeading, p);
+  const Eigen::MatrixXd w_storage = Eigen::MatrixXd::Random(kLeading, kModes);
+  const auto x = x_storage.topRows(kRanges);
+  const auto w = w_storage.topRows(kRanges);
+  const Eigen::VectorXd theta = Eigen::VectorXd::Random(p);
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(p, p), sums = Eigen::MatrixXd::Zero(p, kModes);
+  Eigen::VectorXd e = Eigen::VectorXd::Random(kRanges);
+  for (auto _ : state) {
+    tofcomp::core::add_lower_gram(x, gram, path);
+    tofcomp::core::add_cross_products(x, w, sums, path);
+    tofcomp::core::subtract_product(x, theta, e, path);
+    benchmark::DoNotOptimize(gram.data());
+    benchmark::DoNotOptimize(sums.data());
+    benchmark::DoNotOptimize(e.data());
+  }
+  state.SetLabel(tofcomp::core::vector_math_path_name(path));
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * kRanges);
+}
+
 // Time of EM testing of one window of K samples (the bias Hθ̂ is precomputed, as in use).
 void BM_EmTest(benchmark::State& state) {
   const Eigen::Index k = state.range(0);
@@ -105,6 +154,11 @@ void train_grid(benchmark::internal::Benchmark* b) {
 }  // namespace
 
 BENCHMARK(BM_EmTrainIteration)->Apply(train_grid)->Unit(benchmark::kMillisecond)->MinTime(0.2);
+BENCHMARK(BM_EmTrainIterationOnPath)
+    ->ArgsProduct({{10000, 100000}, {3, 17}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.2);
+BENCHMARK(BM_ColumnProducts)->ArgsProduct({{3, 17, 61}, {0, 1}})->MinTime(0.2);
 BENCHMARK(BM_EmTest)
     ->RangeMultiplier(10)
     ->Range(200, 200000)

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/column_products.hpp"
 #include "core/error.hpp"
 #include "core/vector_math.hpp"
 #include "core/weighted_least_squares.hpp"
@@ -14,9 +15,6 @@ namespace {
 // Ranges per chunk: a chunk's arrays (a few columns of this many doubles) stay in the L1/L2
 // cache, and the per-chunk matrix products are long enough to run at speed.
 constexpr Eigen::Index kChunk = 512;
-// Up to this many basis columns the Gram matrix's lower triangle is summed as dot products of the
-// chunk's columns; beyond, a symmetric rank update (a blocked product) is faster.
-constexpr Eigen::Index kDotGramColumns = 24;
 
 }  // namespace
 
@@ -60,7 +58,8 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
     const auto h_chunk = h.middleRows(first, n);
     const auto y_chunk = y.segment(first, n).array();
     auto e = residual.head(n);
-    e = y_chunk - (h_chunk * theta).array();
+    e = y_chunk;
+    subtract_product(h_chunk, theta, e.matrix());
     // log π_i N(e_k; μ_i, σ_i²), and its largest over the modes.
     auto lj = joint.topRows(n);
     for (int i = 0; i < m; ++i) {
@@ -98,18 +97,13 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
     // matrix and its right-hand side (the chunk is in cache).
     root_t = root_t.sqrt();
     auto x = centred.topRows(n);
-    x = (h_chunk.rowwise() - centre).array().colwise() * root_t;
+    scale_centred_rows(h_chunk, centre, root_t.matrix(), x);
     auto w_over_root = w.array().colwise() / root_t;
     w = w_over_root.matrix();
-    s.mode_sums.noalias() += x.transpose().lazyProduct(w);
-    if (p <= kDotGramColumns) {
-      for (Eigen::Index j = 0; j < p; ++j) {
-        for (Eigen::Index i = j; i < p; ++i) s.gram(i, j) += x.col(i).dot(x.col(j));
-      }
-    } else {
-      s.gram.selfadjointView<Eigen::Lower>().rankUpdate(x.transpose());
-    }
-    s.gram_rhs.noalias() += x.transpose().lazyProduct((root_t * y_chunk).matrix());
+    add_cross_products(x, w, s.mode_sums);
+    add_lower_gram(x, s.gram);
+    root_t *= y_chunk;  // √t_k y_k, for the right-hand side xᵀ (√t y)
+    add_cross_products(x, root_t.matrix(), s.gram_rhs);
   }
   if (!std::isfinite(log_likelihood)) {
     throw NumericalError(
@@ -154,7 +148,7 @@ void exact_step_solve(const Eigen::Ref<const Eigen::MatrixXd>& h,
     const Eigen::Index n = std::min(kChunk, k - first);
     auto e = residual.head(n);
     e = y.segment(first, n).array();
-    if (p > 0) e -= (h.middleRows(first, n) * theta).array();
+    if (p > 0) subtract_product(h.middleRows(first, n), theta, e.matrix());
     const auto r = responsibilities.middleRows(first, n);
     for (int i = 0; i < m; ++i) square[i] += (r.col(i).array() * (e - mean[i]).square()).sum();
   }
