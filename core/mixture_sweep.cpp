@@ -7,6 +7,10 @@
 #include "core/column_products.hpp"
 #include "core/error.hpp"
 #include "core/vector_math.hpp"
+
+#if defined(TOFCOMP_VECTOR_MATH_AVX2)
+#include "core/mixture_sweep_avx2.hpp"
+#endif
 #include "core/weighted_least_squares.hpp"
 
 namespace tofcomp::core {
@@ -15,6 +19,102 @@ namespace {
 // Ranges per chunk: a chunk's arrays (a few columns of this many doubles) stay in the L1/L2
 // cache, and the per-chunk matrix products are long enough to run at speed.
 constexpr Eigen::Index kChunk = 512;
+
+// The per-mode constants of Eq. 18's Gaussian densities: log π_i − ½ log(2π σ_i²), −1/(2σ_i²),
+// 1/σ_i² and μ_i.
+struct ModeConstants {
+  Eigen::ArrayXd log_constant, minus_half_precision, precision, mean;
+  explicit ModeConstants(const MixtureParameters& mixture) {
+    const int m = mixture.modes();
+    log_constant.resize(m);
+    minus_half_precision.resize(m);
+    precision.resize(m);
+    mean = mixture.mean.array();
+    for (int i = 0; i < m; ++i) {
+      log_constant[i] = std::log(mixture.weight[i]) -
+                        0.5 * std::log(2.0 * std::numbers::pi * mixture.variance[i]);
+      precision[i] = 1.0 / mixture.variance[i];
+      minus_half_precision[i] = -0.5 * precision[i];
+    }
+  }
+  int modes() const { return static_cast<int>(mean.size()); }
+};
+
+// A chunk's working arrays for the portable E-step.
+struct EStepScratch {
+  Eigen::ArrayXXd joint;
+  Eigen::ArrayXd top, total, log_total;
+  explicit EStepScratch(int modes)
+      : joint(kChunk, modes), top(kChunk), total(kChunk), log_total(kChunk) {}
+};
+
+using ChunkRows = Eigen::Block<Eigen::MatrixXd>;
+using ChunkArray = Eigen::VectorBlock<Eigen::ArrayXd>;
+
+// One chunk's E-step (Eq. 18) and the exact step's weights, portable: the responsibilities r_ki;
+// with w_ki = r_ki / σ_i² and t_k = Σ_i w_ki, the modes' Σ r, Σ w and Σ w y added to the sums;
+// into w, root_t and root_t_y the scaled forms the products take: w_ki / √t_k, √t_k, √t_k y_k.
+// Returns the chunk's log-likelihood.
+double portable_e_step(const ChunkArray& e, const Eigen::Ref<const Eigen::VectorXd>& y,
+                       const ModeConstants& c, EStepScratch& scratch, ChunkRows& r, ChunkRows& w,
+                       ChunkArray& root_t, ChunkArray& root_t_y, ExactStepSums& s) {
+  const Eigen::Index n = e.size();
+  const int m = c.modes();
+  // log π_i N(e_k; μ_i, σ_i²), and its largest over the modes.
+  auto lj = scratch.joint.topRows(n);
+  for (int i = 0; i < m; ++i) {
+    lj.col(i) = (e - c.mean[i]).square() * c.minus_half_precision[i] + c.log_constant[i];
+  }
+  auto t = scratch.top.head(n);
+  t = lj.col(0);
+  for (int i = 1; i < m; ++i) t = t.max(lj.col(i));
+  for (int i = 0; i < m; ++i) {
+    lj.col(i) -= t;
+    exp_in_place(lj.col(i));
+  }
+  auto sum = scratch.total.head(n);
+  sum = lj.col(0);
+  for (int i = 1; i < m; ++i) sum += lj.col(i);
+  auto log_sum = scratch.log_total.head(n);
+  log_sum = sum;
+  log_in_place(log_sum);
+  const double log_likelihood = (t + log_sum).sum();
+  // r_ki, w_ki = r_ki / σ_i² and t_k = Σ_i w_ki (one division per range).
+  sum = sum.inverse();
+  root_t.setZero();
+  for (int i = 0; i < m; ++i) {
+    r.col(i) = (lj.col(i) * sum).matrix();
+    w.col(i) = r.col(i) * c.precision[i];
+    root_t += w.col(i).array();
+  }
+  s.mass += r.colwise().sum().transpose();
+  s.mode_weight += w.colwise().sum().transpose();
+  s.mode_target.noalias() += w.transpose().lazyProduct(y);
+  root_t = root_t.sqrt();
+  w = (w.array().colwise() / root_t).matrix();
+  root_t_y = root_t * y.array();
+  return log_likelihood;
+}
+
+// portable_e_step's work on the fastest path: the AVX2 kernel (core/mixture_sweep_avx2.hpp) where
+// the CPU and the active path allow it and the modes fit its registers.
+double chunk_e_step(const ChunkArray& e, const Eigen::Ref<const Eigen::VectorXd>& y,
+                    const ModeConstants& c, EStepScratch& scratch, ChunkRows r, ChunkRows w,
+                    ChunkArray root_t, ChunkArray root_t_y, ExactStepSums& s) {
+#if defined(TOFCOMP_VECTOR_MATH_AVX2)
+  const VectorMathPath path = active_vector_math_path();
+  if (path == VectorMathPath::Avx2Fma && vector_math_path_available(path) &&
+      c.modes() <= avx2::kSweepMaxModes) {
+    const avx2::SweepModes modes{c.modes(), c.log_constant.data(), c.minus_half_precision.data(),
+                                 c.precision.data(), c.mean.data()};
+    return avx2::sweep_e_step(
+        e.data(), y.data(), e.size(), modes,
+        {r.data(), r.outerStride(), w.data(), w.outerStride(), root_t.data(), root_t_y.data(),
+         s.mass.data(), s.mode_weight.data(), s.mode_target.data()});
+  }
+#endif
+  return portable_e_step(e, y, c, scratch, r, w, root_t, root_t_y, s);
+}
 
 }  // namespace
 
@@ -31,14 +131,8 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
   const Eigen::Index p = h.cols();
   const int m = mixture.modes();
   responsibilities.resize(k, m);
-  // Per mode: log π_i − ½ log(2π σ_i²), −1/(2σ_i²) and 1/σ_i² (Eq. 18's Gaussian densities).
-  Eigen::ArrayXd log_constant(m), minus_half_precision(m), precision(m);
-  for (int i = 0; i < m; ++i) {
-    log_constant[i] = std::log(mixture.weight[i]) -
-                      0.5 * std::log(2.0 * std::numbers::pi * mixture.variance[i]);
-    precision[i] = 1.0 / mixture.variance[i];
-    minus_half_precision[i] = -0.5 * precision[i];
-  }
+  const ModeConstants constants(mixture);
+  EStepScratch scratch(m);
 
   ExactStepSums s;
   s.centre = centre;
@@ -48,62 +142,29 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
   s.mode_weight = Eigen::VectorXd::Zero(m);
   s.mode_target = Eigen::VectorXd::Zero(m);
   s.mass = Eigen::VectorXd::Zero(m);
-  Eigen::ArrayXXd joint(kChunk, m);
-  Eigen::ArrayXd residual(kChunk), top(kChunk), total(kChunk), log_total(kChunk), root(kChunk);
+  Eigen::ArrayXd residual(kChunk), root(kChunk), root_y(kChunk);
   Eigen::MatrixXd centred(kChunk, p);
   Eigen::MatrixXd weights(kChunk, m);
   double log_likelihood = 0.0;
   for (Eigen::Index first = 0; first < k; first += kChunk) {
     const Eigen::Index n = std::min(kChunk, k - first);
     const auto h_chunk = h.middleRows(first, n);
-    const auto y_chunk = y.segment(first, n).array();
     auto e = residual.head(n);
-    e = y_chunk;
+    e = y.segment(first, n).array();
     subtract_product(h_chunk, theta, e.matrix());
-    // log π_i N(e_k; μ_i, σ_i²), and its largest over the modes.
-    auto lj = joint.topRows(n);
-    for (int i = 0; i < m; ++i) {
-      lj.col(i) = (e - mixture.mean[i]).square() * minus_half_precision[i] + log_constant[i];
-    }
-    auto t = top.head(n);
-    t = lj.col(0);
-    for (int i = 1; i < m; ++i) t = t.max(lj.col(i));
-    for (int i = 0; i < m; ++i) {
-      lj.col(i) -= t;
-      exp_in_place(lj.col(i));
-    }
-    auto sum = total.head(n);
-    sum = lj.col(0);
-    for (int i = 1; i < m; ++i) sum += lj.col(i);
-    auto log_sum = log_total.head(n);
-    log_sum = sum;
-    log_in_place(log_sum);
-    log_likelihood += (t + log_sum).sum();
-    // r_ki, w_ki = r_ki / σ_i² and t_k = Σ_i w_ki (one division per range).
-    sum = sum.inverse();
     auto r = responsibilities.middleRows(first, n);
     auto w = weights.topRows(n);
     auto root_t = root.head(n);
-    root_t.setZero();
-    for (int i = 0; i < m; ++i) {
-      r.col(i) = (lj.col(i) * sum).matrix();
-      w.col(i) = r.col(i) * precision[i];
-      root_t += w.col(i).array();
-    }
-    s.mass += r.colwise().sum().transpose();
-    s.mode_weight += w.colwise().sum().transpose();
-    s.mode_target.noalias() += w.transpose().lazyProduct(y.segment(first, n));
+    auto root_t_y = root_y.head(n);
+    log_likelihood += chunk_e_step(e, y.segment(first, n), constants, scratch, r, w, root_t,
+                                   root_t_y, s);
     // x_k = √t_k (H_k − c) in one pass; then Σ_k w_ki (H_k − c) = xᵀ (w_i / √t), the Gram
-    // matrix and its right-hand side (the chunk is in cache).
-    root_t = root_t.sqrt();
+    // matrix and its right-hand side xᵀ (√t y) (the chunk is in cache).
     auto x = centred.topRows(n);
     scale_centred_rows(h_chunk, centre, root_t.matrix(), x);
-    auto w_over_root = w.array().colwise() / root_t;
-    w = w_over_root.matrix();
     add_cross_products(x, w, s.mode_sums);
     add_lower_gram(x, s.gram);
-    root_t *= y_chunk;  // √t_k y_k, for the right-hand side xᵀ (√t y)
-    add_cross_products(x, root_t.matrix(), s.gram_rhs);
+    add_cross_products(x, root_t_y.matrix(), s.gram_rhs);
   }
   if (!std::isfinite(log_likelihood)) {
     throw NumericalError(

@@ -2,9 +2,12 @@
 // by log-sum-exp and the log-likelihood Σ_k log δ_k) fused with the weighted sums the exact
 // M-step's (θ, μ) block needs (core/mode_regression.hpp's normal equations, weights
 // w_ki = r_ki / σ_i²), then the closed-form σ_i² and π_i of Eq. 19 in a second, light sweep at
-// the new (θ, μ). Ranges are taken in chunks that stay in cache; the exponentials and logarithms
-// (core/vector_math.hpp) and the products over the basis columns (core/column_products.hpp) run
-// on a chunk's arrays, on the fastest path the CPU has. Internal to core/em_train.cpp.
+// the new (θ, μ). Ranges are taken in chunks that stay in cache. On a CPU with AVX2 and FMA (the
+// path core/vector_math.hpp chooses) a chunk's E-step runs as one kernel, four ranges per register
+// from the residual to the responsibilities, the weights and the modes' sums
+// (core/mixture_sweep_avx2.cpp), and the products over the basis columns as
+// core/column_products.hpp's; elsewhere Eigen's array code does both. Internal to
+// core/em_train.cpp.
 #pragma once
 
 #include <Eigen/Core>
