@@ -1,14 +1,13 @@
-// Compiled with -mavx2 -mfma (core/CMakeLists.txt). Only <immintrin.h> (static inline intrinsics)
-// and this file's own functions: no inline function with external linkage (see
-// core/vector_math_avx2.hpp).
+// Compiled with -mavx2 -mfma (core/CMakeLists.txt). Only <immintrin.h> (static inline intrinsics),
+// core/avx2_lanes.hpp (static functions) and this file's own functions: no inline function with
+// external linkage (see core/vector_math_avx2.hpp).
 #include "core/column_products_avx2.hpp"
 
-#include <immintrin.h>
+#include "core/avx2_lanes.hpp"
 
 namespace tofcomp::core::avx2 {
 namespace {
 
-constexpr long kLanes = 4;  // doubles per ymm register
 // A tile of the product is kTileRows columns of x against kTileColumns columns of z: 8
 // accumulators, enough independent fused multiply-adds to cover the FMA units' latency
 // (two units, four cycles each), from 6 loads per 8 multiply-adds.
@@ -17,11 +16,6 @@ constexpr long kTileColumns = 2;
 // Ranges per pass: every tile of a product is visited within one pass, so the pass's ranges
 // (kRowBlock × p doubles: 17 KB at p = 17) must stay in the L1 cache.
 constexpr long kRowBlock = 128;
-
-inline __attribute__((always_inline)) double horizontal_sum(__m256d v) {
-  const __m128d pair = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
-  return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
-}
 
 // The R × C sums s(r, c) = Σ_k x_r[k] z_c[k] over k < n, x_r = x + r·ldx, z_c = z + c·ldz, added
 // to out(r, c) = out[r + c·ldo] where `keep(r, c)` (the Gram matrix keeps its lower triangle).

@@ -1,7 +1,8 @@
 // The AVX2 + FMA kernels of core/column_products.hpp on raw column-major arrays (ld: the distance
 // between columns). Internal to core/column_products.cpp; defined in core/column_products_avx2.cpp
-// (compiled with -mavx2 -mfma), which includes neither this project's nor Eigen's headers, for
-// the reason core/vector_math_avx2.hpp gives. Call only on a CPU with AVX2 and FMA.
+// (compiled with -mavx2 -mfma), which includes no Eigen header and no project header but
+// core/avx2_lanes.hpp, for the reason core/vector_math_avx2.hpp gives. Call only on a CPU with AVX2
+// and FMA.
 #pragma once
 
 namespace tofcomp::core::avx2 {

@@ -1,24 +1,12 @@
-// Compiled with -mavx2 -mfma (core/CMakeLists.txt). Only <immintrin.h> (static inline intrinsics)
-// and this file's own functions: no inline function with external linkage (see
-// core/vector_math_avx2.hpp).
+// Compiled with -mavx2 -mfma (core/CMakeLists.txt). Only <immintrin.h> (static inline intrinsics),
+// core/avx2_lanes.hpp (static functions) and this file's own functions: no inline function with
+// external linkage (see core/vector_math_avx2.hpp).
 #include "core/mixture_sweep_avx2.hpp"
 
-#include <immintrin.h>
-
-// glibc's libmvec, AVX2 variants (x86_64 vector function ABI: 4 doubles in a ymm register), as in
-// core/vector_math_avx2.cpp: the same kernels, so each element is the portable-dispatch path's.
-extern "C" __m256d _ZGVdN4v_exp(__m256d x);
-extern "C" __m256d _ZGVdN4v_log(__m256d x);
+#include "core/avx2_lanes.hpp"
 
 namespace tofcomp::core::avx2 {
 namespace {
-
-constexpr long kLanes = 4;
-
-inline __attribute__((always_inline)) double horizontal_sum(__m256d v) {
-  const __m128d pair = _mm_add_pd(_mm256_castpd256_pd128(v), _mm256_extractf128_pd(v, 1));
-  return _mm_cvtsd_f64(_mm_add_sd(pair, _mm_unpackhi_pd(pair, pair)));
-}
 
 // Four ranges: their responsibilities, weights and t into the lanes' registers; the log-sum-exp
 // of their joint densities returned.

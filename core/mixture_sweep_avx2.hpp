@@ -1,7 +1,7 @@
 // The E-step part of the exact sweep (core/mixture_sweep.cpp) for one chunk of ranges on AVX2 +
 // FMA. Internal to core/mixture_sweep.cpp; defined in core/mixture_sweep_avx2.cpp (compiled with
-// -mavx2 -mfma), which includes neither this project's nor Eigen's headers, for the reason
-// core/vector_math_avx2.hpp gives. Call only on a CPU with AVX2 and FMA.
+// -mavx2 -mfma), which includes no Eigen header and no project header but core/avx2_lanes.hpp, for
+// the reason core/vector_math_avx2.hpp gives. Call only on a CPU with AVX2 and FMA.
 #pragma once
 
 namespace tofcomp::core::avx2 {

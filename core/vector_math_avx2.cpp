@@ -1,19 +1,12 @@
-// Compiled with -mavx2 -mfma (core/CMakeLists.txt). Only <immintrin.h> (static inline intrinsics)
-// and this file's own functions: no inline function with external linkage (see
-// core/vector_math_avx2.hpp).
+// Compiled with -mavx2 -mfma (core/CMakeLists.txt). Only <immintrin.h> (static inline intrinsics),
+// core/avx2_lanes.hpp (static functions) and this file's own functions: no inline function with
+// external linkage (see core/vector_math_avx2.hpp).
 #include "core/vector_math_avx2.hpp"
 
-#include <immintrin.h>
-
-// glibc's libmvec, AVX2 variants (x86_64 vector function ABI: 4 doubles in a ymm register).
-extern "C" __m256d _ZGVdN4v_exp(__m256d x);
-extern "C" __m256d _ZGVdN4v_log(__m256d x);
-extern "C" __m256d _ZGVdN4v_erfc(__m256d x);
+#include "core/avx2_lanes.hpp"
 
 namespace tofcomp::core::avx2 {
 namespace {
-
-constexpr long kLanes = 4;
 
 // f over x[0..n), four at a time; the last n mod 4 through a buffer padded with `pad` (a value
 // f takes without a floating-point exception).
