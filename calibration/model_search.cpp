@@ -6,6 +6,7 @@
 #include <atomic>
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -37,9 +38,10 @@ constexpr int kFitIterations = 150;
 // steps between the best grid point's neighbours.
 constexpr int kProfileIterations = 4;
 constexpr int kGoldenSteps = 6;
-// One more mode and the outlier component: every start gets this many iterations, the best
-// one the rest.
-constexpr int kStartIterations = 15;
+// The screen (model_search.hpp): every candidate's short fit, this many EM iterations from the
+// held model (from each of its starts; at the best τ of the grid), and the candidates fitted to
+// convergence after it.
+constexpr int kScreenIterations = 8;
 // The outlier component's two starts (model_spec.hpp): the held modes, the trimmed residuals'.
 constexpr int kOutlierStarts = 2;
 
@@ -128,43 +130,85 @@ struct Fitted {
   double log_likelihood = 0.0;
 };
 
+// A candidate's short fit, and what its fit to convergence goes on from: the best point of the
+// τ grid (with its short fit's training log-likelihood) and the best start.
+struct Screened {
+  Fitted fitted;
+  std::size_t grid_index = 0;
+  double grid_value = -std::numeric_limits<double>::infinity();
+  int start = 0;
+};
+
 // Fits spec + term on `rows` from the held model's fit there: τ profiled, several starts where
-// the term has them.
+// the term has them. rows: the ranges to fit on (all when empty).
 class TermFitter {
  public:
   TermFitter(const SearchData& data, double variance_floor)
       : data_(data), floor_(variance_floor) {}
 
-  // rows: the ranges to fit on (all when empty).
+  // The screen: τ at the best point of its grid, every start, kScreenIterations each; the best
+  // by the training likelihood.
+  Screened screen(const FoldModel& held, const core::Term& candidate,
+                  const std::vector<Eigen::Index>& rows_or_all) const {
+    const std::vector<Eigen::Index> rows = all_if_empty(rows_or_all);
+    Screened out;
+    core::Term term = candidate;
+    if (term.needs_time_constant()) {
+      const auto& grid = core::kTimeConstantGridS;
+      for (std::size_t i = 0; i < grid.size(); ++i) {
+        const double v = short_fit(held, at_time_constant(candidate, grid[i]), rows);
+        if (v > out.grid_value) out.grid_value = v, out.grid_index = i;
+      }
+      term = at_time_constant(candidate, grid[out.grid_index]);
+    }
+    std::optional<Fitted> best;
+    for (int s = 0; s < starts_of(held, term); ++s) {
+      Fitted f = run(held, term, rows, s, kScreenIterations);
+      if (!best || f.log_likelihood > best->log_likelihood) best = std::move(f), out.start = s;
+    }
+    out.fitted = std::move(*best);
+    return out;
+  }
+
+  // To convergence, from the screen: τ refined by a golden-section search in log τ between the
+  // grid's best point's neighbours (a better τ starts again from the held model; otherwise the
+  // screened fit goes on).
+  Fitted fit(const FoldModel& held, const core::Term& candidate, const Screened& screened,
+             const std::vector<Eigen::Index>& rows_or_all) const {
+    const std::vector<Eigen::Index> rows = all_if_empty(rows_or_all);
+    if (candidate.needs_time_constant()) {
+      const std::optional<core::Term> refined =
+          refine_time_constant(held, candidate, screened, rows);
+      if (refined) return run(held, *refined, rows, screened.start, kFitIterations);
+    }
+    const core::ExtendedDesign design = design_of(
+        screened.fitted.model.spec, data_, screened.fitted.model.fit.model.modes.modes(), rows);
+    const core::ExtendedEmResult em = core::train_extended_em(
+        design, data_.y()(rows), screened.fitted.model.fit, em_options(floor_, kFitIterations));
+    return {FoldModel{screened.fitted.model.spec, em.fit}, em.log_likelihood};
+  }
+
+  // The screen and the fit to convergence at once (the kept terms' fit on all the data).
   Fitted fit(const FoldModel& held, const core::Term& candidate,
              const std::vector<Eigen::Index>& rows_or_all) const {
-    std::vector<Eigen::Index> rows = rows_or_all;
-    if (rows.empty()) {
-      rows.resize(static_cast<std::size_t>(data_.size()));
-      for (Eigen::Index k = 0; k < data_.size(); ++k) rows[static_cast<std::size_t>(k)] = k;
-    }
-    core::Term term = candidate;
-    if (term.needs_time_constant()) term = profile_time_constant(held, candidate, rows);
-    int starts = 1;
-    if (term.parameter == core::Parameter::ExtraMode) starts = held.fit.model.modes.modes();
-    if (term.parameter == core::Parameter::Outliers) starts = kOutlierStarts;
-    std::optional<Fitted> best;
-    for (int s = 0; s < starts; ++s) {
-      Fitted f = run(held, term, rows, s, starts > 1 ? kStartIterations : kFitIterations);
-      if (!best || f.log_likelihood > best->log_likelihood) best = std::move(f);
-    }
-    if (starts > 1) {
-      core::ExtendedDesign design =
-          design_of(best->model.spec, data_, best->model.fit.model.modes.modes(), rows);
-      const core::ExtendedEmResult em = core::train_extended_em(
-          design, data_.y()(rows), best->model.fit, em_options(floor_, kFitIterations));
-      best->model.fit = em.fit;
-      best->log_likelihood = em.log_likelihood;
-    }
-    return std::move(*best);
+    return fit(held, candidate, screen(held, candidate, rows_or_all), rows_or_all);
   }
 
  private:
+  std::vector<Eigen::Index> all_if_empty(const std::vector<Eigen::Index>& rows) const {
+    if (!rows.empty()) return rows;
+    std::vector<Eigen::Index> all(static_cast<std::size_t>(data_.size()));
+    for (Eigen::Index k = 0; k < data_.size(); ++k) all[static_cast<std::size_t>(k)] = k;
+    return all;
+  }
+
+  // One more mode is split from each held mode; the outlier component has kOutlierStarts.
+  static int starts_of(const FoldModel& held, const core::Term& term) {
+    if (term.parameter == core::Parameter::ExtraMode) return held.fit.model.modes.modes();
+    if (term.parameter == core::Parameter::Outliers) return kOutlierStarts;
+    return 1;
+  }
+
   Fitted run(const FoldModel& held, const core::Term& term, const std::vector<Eigen::Index>& rows,
              int start, int iterations) const {
     Extended ext = with_term(held.spec, held.fit, term, data_, rows, start);
@@ -188,16 +232,13 @@ class TermFitter {
     }
   }
 
-  // The grid, then a golden-section search in log τ between the best point's neighbours.
-  core::Term profile_time_constant(const FoldModel& held, const core::Term& t,
-                                   const std::vector<Eigen::Index>& rows) const {
+  // The golden-section search in log τ between the grid's best point's neighbours; the term at
+  // the τ it found when that beats the grid's point, none otherwise.
+  std::optional<core::Term> refine_time_constant(const FoldModel& held, const core::Term& t,
+                                                 const Screened& screened,
+                                                 const std::vector<Eigen::Index>& rows) const {
     const auto& grid = core::kTimeConstantGridS;
-    std::size_t best = 0;
-    double best_value = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < grid.size(); ++i) {
-      const double v = short_fit(held, at_time_constant(t, grid[i]), rows);
-      if (v > best_value) best_value = v, best = i;
-    }
+    const std::size_t best = screened.grid_index;
     double lo = std::log(grid[best == 0 ? 0 : best - 1]);
     double hi = std::log(grid[std::min(best + 1, grid.size() - 1)]);
     const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
@@ -206,7 +247,6 @@ class TermFitter {
       return short_fit(held, at_time_constant(t, std::exp(log_tau)), rows);
     };
     double fa = value(a), fb = value(b);
-    double best_tau = grid[best];
     for (int step = 0; step < kGoldenSteps; ++step) {
       if (fa >= fb) {
         hi = b, b = a, fb = fa;
@@ -218,9 +258,8 @@ class TermFitter {
         fb = value(b);
       }
     }
-    const double refined = fa >= fb ? std::exp(a) : std::exp(b);
-    if (std::max(fa, fb) > best_value) best_tau = refined;
-    return at_time_constant(t, best_tau);
+    if (std::max(fa, fb) <= screened.grid_value) return std::nullopt;
+    return at_time_constant(t, fa >= fb ? std::exp(a) : std::exp(b));
   }
 
   const SearchData& data_;
@@ -476,17 +515,14 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     SearchStep s;
     s.candidates.resize(candidates.size());
     std::vector<std::array<FoldModel, kFolds>> fits(candidates.size());
-    std::atomic<int> done{0};
-    const double step_share = 1.0 / options.max_steps;
-    parallel_for(static_cast<int>(candidates.size()), threads, [&](int i) {
-      const auto c = static_cast<std::size_t>(i);
+    std::vector<std::array<Screened, kFolds>> screens(candidates.size());
+    // A candidate fitted on each fold (by fit_on(fold)) and scored on the other: its result.
+    const auto judge = [&](std::size_t c, const std::function<Fitted(int)>& fit_on) {
       CandidateResult& r = s.candidates[c];
-      r.term = candidates[c];
       try {
         Eigen::VectorXd scores = Eigen::VectorXd::Zero(search_data.size());
         for (int f = 0; f < kFolds; ++f) {
-          Fitted fitted = fitter.fit(held[static_cast<std::size_t>(f)], candidates[c],
-                                     folds.training(f));
+          Fitted fitted = fit_on(f);
           if (f == 0) r.term = last_added(fitted.model.spec, candidates[c]);
           score_held_out(search_data, fitted.model, folds.held_out(f), options.resolution,
                          scores);
@@ -500,17 +536,54 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
       } catch (const core::Error& e) {
         r.error = e.what();
       }
-      report(step_share * (step + static_cast<double>(++done) / candidates.size()),
-             fmt::format("step {}: {}", step + 1, r.term.describe()));
+    };
+    const int refined = options.refined_candidates > 0
+                            ? std::min<int>(options.refined_candidates,
+                                            static_cast<int>(candidates.size()))
+                            : static_cast<int>(candidates.size());
+    std::atomic<int> done{0};
+    const double step_share = 1.0 / options.max_steps;
+    const double work = static_cast<double>(candidates.size() + static_cast<std::size_t>(refined));
+    const auto progress_of = [&](const CandidateResult& r, const char* stage) {
+      report(step_share * (step + static_cast<double>(++done) / work),
+             fmt::format("step {}: {} {}", step + 1, stage, r.term.describe()));
+    };
+    // The screen: every candidate's short fit.
+    parallel_for(static_cast<int>(candidates.size()), threads, [&](int i) {
+      const auto c = static_cast<std::size_t>(i);
+      s.candidates[c].term = candidates[c];
+      s.candidates[c].screened_only = true;
+      judge(c, [&](int f) {
+        const auto fold = static_cast<std::size_t>(f);
+        screens[c][fold] = fitter.screen(held[fold], candidates[c], folds.training(f));
+        return screens[c][fold].fitted;
+      });
+      progress_of(s.candidates[c], "screened");
     });
-    // Rank: the fitted ones by held-out gain, the failed ones last.
+    // The `refined` best by the screen's held-out gain, fitted to convergence from their screens.
+    const auto by_gain = [&](std::vector<std::size_t>& order) {
+      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        const CandidateResult &x = s.candidates[a], &y = s.candidates[b];
+        if (x.ok() != y.ok()) return x.ok();
+        if (x.screened_only != y.screened_only) return !x.screened_only;
+        return x.held_out_gain > y.held_out_gain;
+      });
+    };
     std::vector<std::size_t> order(candidates.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      const CandidateResult &x = s.candidates[a], &y = s.candidates[b];
-      if (x.ok() != y.ok()) return x.ok();
-      return x.held_out_gain > y.held_out_gain;
+    by_gain(order);
+    parallel_for(refined, threads, [&](int j) {
+      const std::size_t c = order[static_cast<std::size_t>(j)];
+      if (!s.candidates[c].ok()) return;
+      s.candidates[c].screened_only = false;
+      judge(c, [&](int f) {
+        const auto fold = static_cast<std::size_t>(f);
+        return fitter.fit(held[fold], candidates[c], screens[c][fold], folds.training(f));
+      });
+      progress_of(s.candidates[c], "fitted");
     });
+    // Rank: those fitted to convergence by held-out gain, then the screened ones, failed last.
+    by_gain(order);
     std::vector<CandidateResult> ranked;
     for (const std::size_t i : order) ranked.push_back(s.candidates[i]);
     s.candidates = std::move(ranked);

@@ -20,11 +20,23 @@
 // nothing missing keep anything at all is at most α. Then the search goes on from the model with
 // it (forward selection), until nothing more passes or max_steps terms are held.
 //
+// A screen, then fits to convergence. Every candidate first gets a short fit on each fold (a
+// few EM iterations from the held model) and is scored on the other fold as above; only the few
+// best by that held-out gain (ModelSearchOptions::refined_candidates) are then fitted to
+// convergence, going on from their short fits, and scored again. The named term is the best of
+// those. Why a short fit ranks: started at the held model's fixed point, EM's first M-step
+// solves the new mean term exactly given the responsibilities (and a spread's or weights' slope
+// by a Newton step), so a term the data support shows most of its gain there; what the rest of
+// the iterations add is the slow exchange between the modes, which every candidate shares. The
+// false-alarm level is unchanged: the Bonferroni count m is every candidate screened, and a
+// screened candidate is kept only after its fit to convergence passes α / m.
+//
 // The terms' time constants (a decay's τ, the junction lag's τ) are profiled on the fold's own
-// training ranges: a few EM iterations at each τ of a grid, then a golden-section search between
-// the best point's neighbours. One more mode is tried split from each mode, the outlier component
-// from the held modes and from the trimmed residuals' modes; the best start by the training
-// likelihood is fitted to the end.
+// training ranges: a few EM iterations at each τ of a grid (the screen), then, for a candidate
+// fitted to convergence, a golden-section search between the best point's neighbours. One more
+// mode is tried split from each mode, the outlier component from the held modes and from the
+// trimmed residuals' modes; the best start by the training likelihood is the screen's, and goes
+// on to convergence.
 //
 // The held-out error of d̂ (§6, §8.4) before and after each named term, per window length:
 // windows inside each held-out block, d̂ under the fold's models. The kept terms are finally
@@ -51,6 +63,10 @@ struct ModelSearchOptions {
   Eigen::Index stride = 10;  // ranges between windows of the d̂ comparison
   double resolution = kRangeResolutionMm;
   int threads = 0;  // candidates fitted at once; 0: one per core
+  // Candidates fitted to convergence after the screen, the best by its held-out gain; 0: all
+  // (no screen decides anything).
+  int refined_candidates = kRefinedCandidates;
+  static constexpr int kRefinedCandidates = 4;
 };
 
 struct CandidateResult {
@@ -60,6 +76,7 @@ struct CandidateResult {
   double gain_per_range = 0.0;
   double t_statistic = 0.0;  // of the blocks' gains
   double p_value = 1.0;      // one-sided, Student's t with blocks − 1 degrees of freedom
+  bool screened_only = false;  // the figures are the screen's short fit's (not fitted to the end)
   bool ok() const { return error.empty(); }
 };
 
@@ -73,7 +90,8 @@ struct HeldOutError {
 };
 
 struct SearchStep {
-  std::vector<CandidateResult> candidates;  // ranked, the largest held-out gain first; failed last
+  // Ranked: those fitted to convergence by held-out gain, then the screened ones, failed last.
+  std::vector<CandidateResult> candidates;
   double critical_p = 0.0;                  // α / (candidates fitted)
   bool kept = false;
   std::vector<HeldOutError> errors;  // of the named (first) candidate

@@ -32,6 +32,7 @@ nlohmann::json candidate_json(const calibration::CandidateResult& c) {
   out["gain_per_range"] = c.gain_per_range;
   out["t"] = c.t_statistic;
   out["p_value"] = c.p_value;
+  out["screened_only"] = c.screened_only;
   return out;
 }
 
@@ -116,9 +117,14 @@ std::string search_text(const calibration::ModelSearchResult& search,
                         const calibration::ModelSearchOptions& options) {
   std::string text = fmt::format(
       "model search: {} candidates of the grammar per step, each fitted on one of two folds "
-      "({} blocks of {} ranges) and scored on the other; kept at {:g} family-wise "
+      "({} blocks of {} ranges) and scored on the other, {}; kept at {:g} family-wise "
       "(Bonferroni)\n",
-      search.candidates_per_step, search.blocks, search.block, options.alpha);
+      search.candidates_per_step, search.blocks, search.block,
+      options.refined_candidates > 0
+          ? fmt::format("screened by short fits, the best {} fitted to convergence",
+                        options.refined_candidates)
+          : std::string("each fitted to convergence"),
+      options.alpha);
   text += search.kept.empty() ? "verdict: nothing kept: the paper's model explains the data\n"
                               : fmt::format("verdict: the model lacks {}\n", kept_names(search));
   for (std::size_t i = 0; i < search.steps.size(); ++i) {
@@ -144,8 +150,8 @@ std::string search_text(const calibration::ModelSearchResult& search,
     const auto& s = search.steps[i];
     text += fmt::format("step {} candidates (the first {} of {}):\n", i + 1,
                         std::min(kCandidatesShown, s.candidates.size()), s.candidates.size());
-    text += fmt::format("  {:<44} {:<44} {:>11} {:>8} {:>9}\n", "effect", "term", "gain/range",
-                        "t", "p");
+    text += fmt::format("  {:<44} {:<44} {:>11} {:>8} {:>9}  {}\n", "effect", "term",
+                        "gain/range", "t", "p", "fit");
     for (std::size_t c = 0; c < s.candidates.size() && c < kCandidatesShown; ++c) {
       const auto& r = s.candidates[c];
       if (!r.ok()) {
@@ -153,9 +159,9 @@ std::string search_text(const calibration::ModelSearchResult& search,
                             r.term.describe(), r.error);
         continue;
       }
-      text += fmt::format("  {:<44} {:<44} {:>11.2e} {:>8.2f} {:>9.2g}\n",
+      text += fmt::format("  {:<44} {:<44} {:>11.2e} {:>8.2f} {:>9.2g}  {}\n",
                           core::effect_name(r.term.label()), r.term.describe(), r.gain_per_range,
-                          r.t_statistic, r.p_value);
+                          r.t_statistic, r.p_value, r.screened_only ? "screen" : "converged");
     }
   }
   return text;

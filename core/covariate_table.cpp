@@ -18,7 +18,8 @@ constexpr double kRelativeConstantSpread = 1e-9;
 // (beyond them a range takes the end level).
 constexpr std::array<double, 2> kLevelRangeQuantiles{0.005, 0.995};
 
-std::vector<double> sorted_values(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& rows) {
+// The covariate's values on `rows` (all when empty), in no particular order.
+std::vector<double> values_on(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& rows) {
   std::vector<double> out;
   if (rows.empty()) {
     out.assign(v.data(), v.data() + v.size());
@@ -26,13 +27,16 @@ std::vector<double> sorted_values(const Eigen::VectorXd& v, const std::vector<Ei
     out.reserve(rows.size());
     for (const Eigen::Index r : rows) out.push_back(v[r]);
   }
-  std::sort(out.begin(), out.end());
   return out;
 }
 
-double quantile(const std::vector<double>& sorted, double q) {
-  const auto at = static_cast<std::size_t>(std::floor(q * static_cast<double>(sorted.size() - 1)));
-  return sorted[at];
+// The q-quantile (the value at rank ⌊q (n − 1)⌋), selected in linear time: `values` is reordered,
+// not changed, so several quantiles may be taken from it in turn (a term's τ profile makes a term
+// at every point, and a full sort of a day's covariate each time cost more than the fits).
+double quantile(std::vector<double>& values, double q) {
+  const auto at = static_cast<std::size_t>(std::floor(q * static_cast<double>(values.size() - 1)));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(at), values.end());
+  return values[at];
 }
 
 void require_increasing(const Eigen::VectorXd& knots, const Term& term);
@@ -46,9 +50,9 @@ double design_value(const Term& term, double c) {
 
 // The edges, in the covariate's units, of kNoiseLevels levels equally spaced in f between f's
 // values at the covariate's extreme quantiles.
-Eigen::VectorXd level_edges(const Term& term, const std::vector<double>& sorted) {
-  const double c_lo = quantile(sorted, kLevelRangeQuantiles[0]);
-  const double c_hi = quantile(sorted, kLevelRangeQuantiles[1]);
+Eigen::VectorXd level_edges(const Term& term, std::vector<double>& values) {
+  const double c_lo = quantile(values, kLevelRangeQuantiles[0]);
+  const double c_hi = quantile(values, kLevelRangeQuantiles[1]);
   if (!(c_hi > c_lo)) throw InvalidInput("term " + term.describe() + ": the covariate is constant");
   const double f_lo = design_value(term, c_lo), f_hi = design_value(term, c_hi);
   std::vector<double> edges;
@@ -166,15 +170,15 @@ Term CovariateTable::make_term(Parameter parameter, Covariate covariate, Form fo
     return term;
   }
   const Eigen::VectorXd v = values(covariate, time_constant_s);
-  const std::vector<double> sorted = sorted_values(v, rows);
-  if (sorted.size() < 2) throw InvalidInput("term " + term.describe() + ": too few ranges");
+  std::vector<double> sample = values_on(v, rows);
+  if (sample.size() < 2) throw InvalidInput("term " + term.describe() + ": too few ranges");
   if (form == Form::Linear) {
     double mean = 0.0;
-    for (const double x : sorted) mean += x;
-    mean /= static_cast<double>(sorted.size());
+    for (const double x : sample) mean += x;
+    mean /= static_cast<double>(sample.size());
     double spread = 0.0;
-    for (const double x : sorted) spread += (x - mean) * (x - mean);
-    spread = std::sqrt(spread / static_cast<double>(sorted.size()));
+    for (const double x : sample) spread += (x - mean) * (x - mean);
+    spread = std::sqrt(spread / static_cast<double>(sample.size()));
     if (!(spread > kRelativeConstantSpread * std::max(1.0, std::abs(mean)))) {
       throw InvalidInput("term " + term.describe() + ": the covariate is constant");
     }
@@ -183,17 +187,17 @@ Term CovariateTable::make_term(Parameter parameter, Covariate covariate, Form fo
   } else if (form == Form::Smooth) {
     term.knots.resize(kSmoothKnots);
     for (int i = 0; i < kSmoothKnots; ++i) {
-      term.knots[i] = quantile(sorted, kKnotQuantiles[static_cast<std::size_t>(i)]);
+      term.knots[i] = quantile(sample, kKnotQuantiles[static_cast<std::size_t>(i)]);
     }
     require_increasing(term.knots, term);
   } else if (form == Form::Bins) {
     term.knots.resize(kCovariateBins - 1);
     for (int b = 1; b < kCovariateBins; ++b) {
-      term.knots[b - 1] = quantile(sorted, static_cast<double>(b) / kCovariateBins);
+      term.knots[b - 1] = quantile(sample, static_cast<double>(b) / kCovariateBins);
     }
     require_increasing(term.knots, term);
   }
-  if (term.is_parametric_noise()) term.knots = level_edges(term, sorted);
+  if (term.is_parametric_noise()) term.knots = level_edges(term, sample);
   term.validate();
   return term;
 }

@@ -201,6 +201,46 @@ INSTANTIATE_TEST_SUITE_P(
         Case{Injected::SpreadWithTemperature,
              {core::Parameter::Spread, core::Covariate::JunctionTemperature}}));
 
+// The screen (short fits, then the few best fitted to convergence) names in each step what
+// fitting every candidate to convergence names, with the same held-out gain to the fits'
+// tolerance, and marks which figures are the screen's.
+TEST(ModelSearch, TheScreenNamesWhatFullFitsOfEveryCandidateName) {
+  for (const Injected effect : {Injected::None, Injected::WarmUp, Injected::TimeDrift,
+                                Injected::Outliers, Injected::ModePersistence,
+                                Injected::ModeOffsetWithTemperature,
+                                Injected::WeightsWithTemperature,
+                                Injected::SpreadWithTemperature}) {
+    const Record r = draw_record(effect, 200 + static_cast<unsigned>(effect));
+    ModelSearchOptions options;
+    options.threads = 2;
+    const ModelSearchResult screened = search_model(r.data, r.calibration, r.junction, options);
+    options.refined_candidates = 0;
+    const ModelSearchResult full = search_model(r.data, r.calibration, r.junction, options);
+    const std::string what = "effect " + std::to_string(static_cast<int>(effect));
+    ASSERT_EQ(screened.steps.size(), full.steps.size()) << what;
+    for (std::size_t i = 0; i < full.steps.size(); ++i) {
+      const CandidateResult* a = screened.steps[i].named();
+      const CandidateResult* b = full.steps[i].named();
+      ASSERT_TRUE(a && b) << what;
+      EXPECT_EQ(a->term.label(), b->term.label()) << what << ": " << a->term.describe()
+                                                  << " against " << b->term.describe();
+      if (a->term.describe() == b->term.describe()) {
+        EXPECT_NEAR(a->held_out_gain, b->held_out_gain, 0.02 * std::abs(b->held_out_gain) + 1.0)
+            << what;
+      }
+      EXPECT_EQ(screened.steps[i].kept, full.steps[i].kept) << what;
+      EXPECT_EQ(screened.steps[i].critical_p, full.steps[i].critical_p) << what;
+      int converged = 0;
+      for (const CandidateResult& c : screened.steps[i].candidates) {
+        converged += c.ok() && !c.screened_only;
+      }
+      EXPECT_EQ(converged, ModelSearchOptions::kRefinedCandidates) << what;
+      EXPECT_FALSE(a->screened_only);
+      for (const CandidateResult& c : full.steps[i].candidates) EXPECT_FALSE(c.screened_only);
+    }
+  }
+}
+
 // The warm-up's amplitude and time constant come back from the fit on all the data.
 TEST(ModelSearch, RecoversTheWarmUpsAmplitudeAndTimeConstant) {
   const ModelSearchResult s = search(draw_record(Injected::WarmUp, 101));
