@@ -60,11 +60,14 @@ Eigen::VectorXd nearest_mode_deviation(const Eigen::VectorXd& residual,
 
 // The (M)-mode and (M+1)-mode mixtures of one half, by the paper's EM with no bias columns;
 // no value when EM cannot keep that many modes populated.
-std::optional<MixtureParameters> fit_modes(const Eigen::VectorXd& residual, int modes) {
+// start: the mixture EM starts from (the quantile start when none).
+std::optional<MixtureParameters> fit_modes(const Eigen::VectorXd& residual, int modes,
+                                           const MixtureParameters* start = nullptr) {
   EmTrainOptions options;
   options.modes = modes;
   options.record_trace = false;
   options.max_iterations = 500;
+  if (start) options.start = EmStartingPoint{Eigen::VectorXd(0), *start};
   try {
     return train_em(Eigen::MatrixXd(residual.size(), 0), residual, options).mixture;
   } catch (const NumericalError&) {
@@ -73,14 +76,16 @@ std::optional<MixtureParameters> fit_modes(const Eigen::VectorXd& residual, int 
 }
 
 // One more mode: the split likelihood ratio, fitted on one half and evaluated on the other,
-// both ways, T = (T_ab + T_ba) / 2.
-TestResult extra_mode_test(const Eigen::VectorXd& residual, int modes) {
+// both ways, T = (T_ab + T_ba) / 2. The null's M modes on a half start from the trained mixture
+// (the maximum on all the ranges, near each half's); the alternative's M + 1 from the quantiles.
+TestResult extra_mode_test(const Eigen::VectorXd& residual, const MixtureParameters& trained) {
+  const int modes = trained.modes();
   const Eigen::Index half = residual.size() / 2;
   const Eigen::VectorXd first = residual.head(half);
   const Eigen::VectorXd second = residual.tail(residual.size() - half);
   const auto log_t = [&](const Eigen::VectorXd& fit_on, const Eigen::VectorXd& test_on) {
     const auto alternative = fit_modes(fit_on, modes + 1);
-    const auto null = fit_modes(test_on, modes);
+    const auto null = fit_modes(test_on, modes, &trained);
     if (!alternative || !null) return -std::numeric_limits<double>::infinity();
     return mixture_log_likelihood(test_on, *alternative) - mixture_log_likelihood(test_on, *null);
   };
@@ -175,7 +180,7 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
            tail_excess_test(beyond, static_cast<double>(n), two_sided_normal_p(options.tail_z))));
   d.findings.push_back(make(EffectKind::ExtraMode, "split likelihood ratio",
                             "M + 1 modes against M",
-                            extra_mode_test(in.residual, mixture.modes())));
+                            extra_mode_test(in.residual, mixture)));
   d.findings.push_back(make(EffectKind::HeatingHysteresis, "correlation", "junction heating rate",
                             correlation_test(in.junction_rate_c_per_s, d.compensated)));
   d.findings.push_back(make(EffectKind::TimeDrift, "correlation", "time",
