@@ -113,12 +113,15 @@ def search_section(diagnosis):
                      f"{len(candidates)} candidates (all are in <code>data/diagnosis.json</code>)"
                      f"</p>")
         table = ["<table><tr><th class=\"text\">effect</th><th class=\"text\">term</th>"
-                 "<th>gain per range</th><th>t</th><th>p-value</th></tr>"]
+                 "<th>gain per range</th><th>t</th><th>p-value</th><th class=\"text\">fit</th>"
+                 "</tr>"]
         for c in candidates[:CANDIDATES_SHOWN]:
+            fit = "screen" if c.get("screened_only") else "converged"
             table.append(row([td(c.get("effect", "–"), "text"), td(c.get("term", "–"), "text"),
                               td(number(c.get("gain_per_range"), ".2e")), td(ratio(c.get("t"))),
                               td(p_value(c.get("p_value")) if "error" not in c
-                                 else "not fitted: " + str(c["error"]))]))
+                                 else "not fitted: " + str(c["error"])),
+                              td(fit if "error" not in c else "–", "text")]))
         table.append("</table>")
         parts.append("\n".join(table))
     return "\n".join(parts)
