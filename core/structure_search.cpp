@@ -76,11 +76,8 @@ class Search {
   }
 
   // Trains and scores (family, order, modes) once; later calls return the same index.
-  // warm: the whole fit's start; fold_warm: each fold's (the fold fits of the order below, on the
-  // same ranges), else each fold starts from the whole fit.
   int visit(const std::string& family, int order, int modes,
-            const std::optional<EmStartingPoint>& warm,
-            const std::vector<EmStartingPoint>* fold_warm = nullptr) {
+            const std::optional<EmStartingPoint>& warm) {
     const auto key = std::make_tuple(family, order, modes);
     if (const auto found = index_.find(key); found != index_.end()) return found->second;
     CandidateEvidence e;
@@ -91,7 +88,6 @@ class Search {
     e.name = basis.describe() + ", " + std::to_string(modes) + (modes == 1 ? " mode" : " modes");
     e.parameters = basis.columns() + 3 * modes - 1;
     EmTrainResult fit;
-    std::vector<EmStartingPoint> fold_fits;
     try {
       const Eigen::MatrixXd h = basis.design_matrix(temperature_);
       EmTrainOptions em = options_.em;
@@ -102,7 +98,7 @@ class Search {
       e.glr = 2.0 * (fit.log_likelihood - null_log_likelihood());
       e.bic = -2.0 * fit.log_likelihood +
               e.parameters * std::log(static_cast<double>(y_.size()));
-      e.block_log_likelihood = score_held_out_blocks(h, fit, em, fold_warm, fold_fits);
+      e.block_log_likelihood = score_held_out_blocks(h, fit, em);
       e.held_out_log_likelihood =
           e.block_log_likelihood.sum() / static_cast<double>(held_out_count_);
       e.ok = true;
@@ -112,7 +108,6 @@ class Search {
     }
     evidence_.push_back(e);
     fits_.push_back(std::move(fit));
-    fold_fits_.push_back(std::move(fold_fits));
     const int index = static_cast<int>(evidence_.size()) - 1;
     index_[key] = index;
     if (progress_) progress_(e);
@@ -131,14 +126,12 @@ class Search {
     int best = -1;
     int since_best = 0;
     std::optional<EmStartingPoint> warm;
-    std::vector<EmStartingPoint> fold_warm;
     for (int order = 1; order <= max_order && since_best < options_.patience; ++order) {
-      const int index = visit(family, order, modes, warm, fold_warm.empty() ? nullptr : &fold_warm);
+      const int index = visit(family, order, modes, warm);
       const CandidateEvidence& e = evidence_[static_cast<std::size_t>(index)];
       if (e.ok) {
         const EmTrainResult& fit = fits_[static_cast<std::size_t>(index)];
         warm = EmStartingPoint{fit.theta, fit.mixture};
-        fold_warm = fold_fits_[static_cast<std::size_t>(index)];
       }
       if (e.ok && (best < 0 || score(index) > score(best))) {
         best = index;
@@ -238,29 +231,20 @@ class Search {
 
  private:
   // Σ of the held-out log-likelihood over each scored block's ranges, each fold's fit on the
-  // other folds warm-started from fold_warm's (where the bases nest: the fold's own fit at the
-  // order below is the nearest start on its own ranges; from the whole fit, which lies
-  // O(1/√K) away on other data, EM crawls along the modes' slow directions), else from the whole
-  // fit. The fold fits are written to fold_fits.
+  // other folds warm-started from the whole fit.
   Eigen::VectorXd score_held_out_blocks(const Eigen::MatrixXd& h, const EmTrainResult& whole,
-                                        EmTrainOptions em,
-                                        const std::vector<EmStartingPoint>* fold_warm,
-                                        std::vector<EmStartingPoint>& fold_fits) const {
+                                        EmTrainOptions em) const {
     em.start = EmStartingPoint{whole.theta, whole.mixture};
     // Each fold's held-out log-densities, fitted independently (possibly at once).
     const int folds = static_cast<int>(train_rows_.size());
     std::vector<Eigen::VectorXd> fold_log_density(train_rows_.size());
     std::vector<std::exception_ptr> fold_failure(train_rows_.size());
-    fold_fits.assign(train_rows_.size(), EmStartingPoint{});
     const auto fit_fold = [&](int fold) {
       const auto f = static_cast<std::size_t>(fold);
       try {
         const std::vector<Eigen::Index>& train_rows = train_rows_[f];
         const std::vector<Eigen::Index>& held_rows = held_rows_[f];
-        EmTrainOptions fold_em = em;
-        if (fold_warm) fold_em.start = (*fold_warm)[f];
-        const EmTrainResult fit = train_em(h(train_rows, Eigen::all), y_(train_rows), fold_em);
-        fold_fits[f] = EmStartingPoint{fit.theta, fit.mixture};
+        const EmTrainResult fit = train_em(h(train_rows, Eigen::all), y_(train_rows), em);
         const Eigen::VectorXd residual = y_(held_rows) - h(held_rows, Eigen::all) * fit.theta;
         fold_log_density[f] =
             options_.resolution > 0.0
@@ -305,7 +289,6 @@ class Search {
   std::map<std::tuple<std::string, int, int>, int> index_;
   std::vector<CandidateEvidence> evidence_;
   std::vector<EmTrainResult> fits_;
-  std::vector<std::vector<EmStartingPoint>> fold_fits_;  // per candidate, per fold
   std::optional<double> null_log_likelihood_;
 };
 
