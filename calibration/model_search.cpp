@@ -151,7 +151,7 @@ class TermFitter {
   // by the training likelihood.
   Screened screen(const FoldModel& held, const core::Term& candidate,
                   const std::vector<Eigen::Index>& rows_or_all) const {
-    const std::vector<Eigen::Index> rows = all_if_empty(rows_or_all);
+    const std::vector<Eigen::Index> rows = all_rows_if_empty(rows_or_all, data_.size());
     Screened out;
     core::Term term = candidate;
     if (term.needs_time_constant()) {
@@ -176,7 +176,7 @@ class TermFitter {
   // screened fit goes on).
   Fitted fit(const FoldModel& held, const core::Term& candidate, const Screened& screened,
              const std::vector<Eigen::Index>& rows_or_all) const {
-    const std::vector<Eigen::Index> rows = all_if_empty(rows_or_all);
+    const std::vector<Eigen::Index> rows = all_rows_if_empty(rows_or_all, data_.size());
     if (candidate.needs_time_constant()) {
       const std::optional<core::Term> refined =
           refine_time_constant(held, candidate, screened, rows);
@@ -196,13 +196,6 @@ class TermFitter {
   }
 
  private:
-  std::vector<Eigen::Index> all_if_empty(const std::vector<Eigen::Index>& rows) const {
-    if (!rows.empty()) return rows;
-    std::vector<Eigen::Index> all(static_cast<std::size_t>(data_.size()));
-    for (Eigen::Index k = 0; k < data_.size(); ++k) all[static_cast<std::size_t>(k)] = k;
-    return all;
-  }
-
   // One more mode is split from each held mode; the outlier component has kOutlierStarts.
   static int starts_of(const FoldModel& held, const core::Term& term) {
     if (term.parameter == core::Parameter::ExtraMode) return held.fit.model.modes.modes();

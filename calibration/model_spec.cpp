@@ -26,13 +26,6 @@ constexpr double kChainStartStay = 0.5;
 // Directions of the centred basis below this share of the largest are dropped from Q.
 constexpr double kRetainedDirection = 1e-10;
 
-std::vector<Eigen::Index> all_rows_if_empty(const std::vector<Eigen::Index>& rows, Eigen::Index n) {
-  if (!rows.empty()) return rows;
-  std::vector<Eigen::Index> all(static_cast<std::size_t>(n));
-  std::iota(all.begin(), all.end(), Eigen::Index{0});
-  return all;
-}
-
 Eigen::MatrixXd append_columns(const Eigen::MatrixXd& left, const Eigen::MatrixXd& right) {
   if (left.size() == 0) return right;
   Eigen::MatrixXd out(left.rows(), left.cols() + right.cols());
@@ -214,6 +207,13 @@ bool ModelSpec::accepts(const core::Term& term) const {
       return true;
   }
   return false;
+}
+
+std::vector<Eigen::Index> all_rows_if_empty(const std::vector<Eigen::Index>& rows, Eigen::Index n) {
+  if (!rows.empty()) return rows;
+  std::vector<Eigen::Index> all(static_cast<std::size_t>(n));
+  std::iota(all.begin(), all.end(), Eigen::Index{0});
+  return all;
 }
 
 core::ExtendedDesign design_of(const ModelSpec& spec, const SearchData& data, int modes,

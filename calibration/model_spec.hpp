@@ -65,6 +65,9 @@ struct ModelSpec {
   bool accepts(const core::Term& term) const;
 };
 
+// `rows`, or every range 0 … n − 1 when it is empty (the searches' "all the data").
+std::vector<Eigen::Index> all_rows_if_empty(const std::vector<Eigen::Index>& rows, Eigen::Index n);
+
 // The design of a spec on the given ranges (all when empty): [H, the bias terms' columns], each
 // mode's offset columns, each range's noise state.
 core::ExtendedDesign design_of(const ModelSpec& spec, const SearchData& data, int modes,
