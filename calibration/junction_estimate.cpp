@@ -10,7 +10,6 @@ namespace {
 
 // The readings' prior at the first instant: ±0.5 °C on the case, ±2 °C on the junction.
 constexpr double kPriorCaseStdC = 0.5;
-constexpr double kPriorJunctionStdC = 2.0;
 
 }  // namespace
 
@@ -56,7 +55,7 @@ SmoothedJunction junction_at_ranges(const MeasuredData& data,
     measured[static_cast<std::size_t>(g)] = at.reading;
   }
   const core::ThermalBelief prior = core::prior_at_case_temperature(
-      thermal, data.case_c[0], power[0], kPriorCaseStdC, kPriorJunctionStdC);
+      thermal, data.case_c[0], ambient[0], kPriorCaseStdC);
   const core::SmoothedThermalRecord smoothed =
       core::smooth_thermal_record(thermal, noise, prior, times, power, ambient, reading, measured);
 

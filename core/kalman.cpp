@@ -105,12 +105,11 @@ void ThermalBelief::validate() const {
 }
 
 ThermalBelief prior_at_case_temperature(const ThermalParameters& parameters, double case_c,
-                                        double power_on_fraction, double case_std_c,
-                                        double junction_std_c) {
+                                        double ambient_c, double case_std_c) {
   require_positive(case_std_c, "prior case standard deviation");
-  require_positive(junction_std_c, "prior junction standard deviation");
   ThermalBelief b;
-  b.mean = state_at_case_temperature(parameters, case_c, power_on_fraction);
+  b.mean = state_from_case_heat_flow(parameters, case_c, ambient_c);
+  const double junction_std_c = 0.5 * parameters.power_w * parameters.r1_k_per_w;
   b.covariance =
       Eigen::Vector2d(case_std_c * case_std_c, junction_std_c * junction_std_c).asDiagonal();
   return b;

@@ -44,11 +44,15 @@ struct ThermalBelief {
   void validate() const;
 };
 
-// A prior at a first case reading: mean state_at_case_temperature(case_c, u), independent
-// standard deviations for the case and the junction.
+// A prior at a first case reading when the power's history before it is unknown: mean
+// state_from_case_heat_flow(case_c, ambient_c); the case's standard deviation case_std_c, the
+// junction's half the span its excess over the case can take, P R1 / 2 (between the laser off, 0,
+// and on for long, P R1). A wider junction prior (a fixed 2 K before) let the smoother explain
+// the first quantized case readings by a junction kelvins too hot, which then decayed over its
+// first minute, and every lag of the junction (the model search's another thermal state)
+// carried that start for as long as its time constant.
 ThermalBelief prior_at_case_temperature(const ThermalParameters& parameters, double case_c,
-                                        double power_on_fraction, double case_std_c,
-                                        double junction_std_c);
+                                        double ambient_c, double case_std_c);
 
 // Q_T above: the covariance the process noise adds over a step of step_s ≥ 0 seconds.
 Eigen::Matrix2d process_noise_covariance(const ThermalParameters& parameters,

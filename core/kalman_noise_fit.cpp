@@ -121,8 +121,8 @@ double innovations_log_likelihood(const CaseTemperatureLog& log,
                                   const ThermalParameters& parameters, const ThermalNoise& noise,
                                   const NoiseFitOptions& options) {
   const ThermalBelief prior =
-      prior_at_case_temperature(parameters, log.case_c[0], log.power_on_fraction[0],
-                                options.prior_case_std_c, options.prior_junction_std_c);
+      prior_at_case_temperature(parameters, log.case_c[0], log.ambient_c[0],
+                                options.prior_case_std_c);
   ThermalKalmanFilter filter(parameters, noise, prior);
   filter.update(log.case_c[0]);
   for (Eigen::Index k = 1; k < log.times_s.size(); ++k) {

@@ -43,7 +43,6 @@ struct NoiseFitOptions {
   double determined_drop = 1.92;       // χ²(1) at 0.95, halved: a likelihood-ratio test's edge
   // The prior at the first reading (core::prior_at_case_temperature).
   double prior_case_std_c = 0.5;
-  double prior_junction_std_c = 2.0;
 };
 
 struct KalmanNoiseLevelFit {

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "core/thermal_model.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -112,6 +113,16 @@ Eigen::Vector2d state_at_case_temperature(const ThermalParameters& parameters, d
   require_on_fraction(power_on_fraction, "power on fraction");
   require_finite(case_c, "case temperature");
   return {case_c, case_c + power_on_fraction * parameters.power_w * parameters.r1_k_per_w};
+}
+
+Eigen::Vector2d state_from_case_heat_flow(const ThermalParameters& parameters, double case_c,
+                                          double ambient_c) {
+  parameters.validate();
+  require_finite(case_c, "case temperature");
+  require_finite(ambient_c, "ambient temperature");
+  const double heat_w =
+      std::clamp((case_c - ambient_c) / parameters.r2_k_per_w, 0.0, parameters.power_w);
+  return {case_c, case_c + heat_w * parameters.r1_k_per_w};
 }
 
 // Eq. 5 without noise.

@@ -95,6 +95,16 @@ Eigen::Vector2d equilibrium_state(const ThermalParameters& parameters, double po
 Eigen::Vector2d state_at_case_temperature(const ThermalParameters& parameters, double case_c,
                                           double power_on_fraction);
 
+// The state a case reading implies when the power's history is unknown (the start of a record):
+// the junction settled (Eq. 3's second line with ṫ^j = 0) on the heat the case sheds to the
+// ambient, (t^c − t^a) / R2 (its first line with ṫ^c = 0), bounded by the power between 0 and P:
+// [t^c, t^c + R1 · clamp((t^c − t^a) / R2, 0, P)]. A record that starts as the laser is switched
+// on from cold has its junction at the case, not P R1 above it (state_at_case_temperature's
+// junction settled to a power that has only just come on); one that starts after hours at the
+// power's steady state gives the same as state_at_case_temperature.
+Eigen::Vector2d state_from_case_heat_flow(const ThermalParameters& parameters, double case_c,
+                                          double ambient_c);
+
 // Eq. 5 without noise: x_0 = initial_state, x_{k+1} = a x_k + b_power u_k + b_ambient t^a_k.
 // Returns x_0 .. x_{K−1} for inputs of length K ≥ 1 (the last inputs are not used).
 ThermalTrajectory simulate(const DiscreteThermalModel& model, const Eigen::Vector2d& initial_state,

@@ -33,8 +33,7 @@ void CompensationPipeline::set_settings(const PipelineSettings& settings) {
   compensator_.set_window_options(settings.window);
   const bool junction_changed =
       settings.junction.stale_after_s != settings_.junction.stale_after_s ||
-      settings.junction.initial_case_std_c != settings_.junction.initial_case_std_c ||
-      settings.junction.initial_junction_std_c != settings_.junction.initial_junction_std_c;
+      settings.junction.initial_case_std_c != settings_.junction.initial_case_std_c;
   settings_ = settings;
   if (junction_changed) restart_tracker();
 }

@@ -11,10 +11,9 @@ JunctionTracker::JunctionTracker(const core::Calibration& calibration,
                                  JunctionTrackerSettings settings)
     : calibration_(calibration), settings_(settings) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-  if (!positive(settings_.stale_after_s) || !positive(settings_.initial_case_std_c) ||
-      !positive(settings_.initial_junction_std_c)) {
+  if (!positive(settings_.stale_after_s) || !positive(settings_.initial_case_std_c)) {
     throw core::InvalidInput(
-        "junction tracker: stale_after_s and the initial standard deviations must be positive");
+        "junction tracker: stale_after_s and the initial case standard deviation must be positive");
   }
   calibration_.thermal.validate();
   calibration_.kalman_noise.validate();
@@ -35,8 +34,8 @@ void JunctionTracker::add_case_reading(double time_s, double case_c) {
     // The prior of the offline pipeline: the steady state at this case temperature.
     filter_.emplace(calibration_.thermal, calibration_.kalman_noise,
                     core::prior_at_case_temperature(
-                        calibration_.thermal, case_c, power_on_ ? 1.0 : 0.0,
-                        settings_.initial_case_std_c, settings_.initial_junction_std_c));
+                        calibration_.thermal, case_c, calibration_.ambient_c,
+                        settings_.initial_case_std_c));
     filter_time_s_ = time_s;
   }
   advance_to(time_s);

@@ -25,7 +25,6 @@ namespace tofcomp::realtime {
 struct JunctionTrackerSettings {
   double stale_after_s = 10.0;          // a scan this long after the last reading is flagged
   double initial_case_std_c = 0.5;      // prior at the first reading
-  double initial_junction_std_c = 2.0;  // the junction may be anywhere near its steady state
   bool operator==(const JunctionTrackerSettings&) const = default;
 };
 

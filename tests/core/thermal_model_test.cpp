@@ -135,6 +135,21 @@ TEST(ThermalModel, EquilibriumIsTheClosedForm) {
   EXPECT_EQ(state_at_case_temperature(p, 25.0, 0.5), Eigen::Vector2d(25.0, 25.0 + 0.5 * 10 * 0.2));
 }
 
+// The rest state a case reading implies: at each power's equilibrium it is that equilibrium; a
+// case at the ambient (the laser switched on from cold) has the junction at the case; the heat
+// is bounded by 0 (a case below the ambient) and P (a case hotter than any power explains).
+TEST(ThermalModel, TheStateFromTheCaseHeatFlowIsEachPowersEquilibrium) {
+  const ThermalParameters p = lms200_example_parameters();
+  for (const double u : {0.0, 0.25, 1.0}) {
+    const Eigen::Vector2d at_rest = equilibrium_state(p, u, 21.0);
+    EXPECT_LT((state_from_case_heat_flow(p, at_rest[0], 21.0) - at_rest).norm(), 1e-12) << u;
+  }
+  EXPECT_EQ(state_from_case_heat_flow(p, 21.0, 21.0), Eigen::Vector2d(21.0, 21.0));
+  EXPECT_EQ(state_from_case_heat_flow(p, 19.0, 21.0), Eigen::Vector2d(19.0, 19.0));
+  EXPECT_NEAR(state_from_case_heat_flow(p, 40.0, 21.0)[1], 40.0 + 10.0 * 0.2, 1e-12);
+  EXPECT_THROW(state_from_case_heat_flow(p, 21.0, std::nan("")), InvalidInput);
+}
+
 // The derivation of thermal_model.hpp: a·1 + b_ambient = 1, and relative to the ambient the
 // state is driven by the increments v̄_{k+1} = t^a_{k+1} − t^a_k with gain −1.
 TEST(ThermalModel, AmbientEntersRelativeCoordinatesAsIncrements) {
