@@ -97,6 +97,9 @@ struct JunctionDynamicsFit {
   JunctionDynamicsPoint start;  // the case-log fit's junction
   JunctionDynamicsPoint best;   // the search's answer
   bool replaced = false;        // best replaced start (the test rejected start)
+  // Training's final fit failed on the junction from the ranges (its error): start was kept
+  // although the test rejected it, and replaced is false.
+  std::string refused_by_final_fit;
   double block_t = 0.0;            // the blocks' t statistic of the ranges' gain
   double block_p = 1.0;            // its one-sided p-value
   JunctionDynamicsPoint chosen() const { return replaced ? best : start; }

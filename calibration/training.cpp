@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "calibration/basis_spec.hpp"
+#include "calibration/final_fit.hpp"
+#include "core/error.hpp"
 #include "calibration/parallel_for.hpp"
 #include "io/utc_time.hpp"
 #include "io/version.hpp"
@@ -179,6 +181,10 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
     structure_fit = core::EmStartingPoint{t.structure->fit.theta, t.structure->fit.mixture};
   }
 
+  // What the structure search fitted on: the case-log junction and its basis, kept in case the
+  // final fit fails on the junction from the ranges (below).
+  SmoothedJunction case_log_junction = t.junction;
+  const core::Basis case_log_basis = basis;
   if (settings.junction_from_ranges && t.thermal.map && !too_few_to_choose) {
     report(progress, kSearchShare, "junction dynamics from the ranges");
     t.junction_dynamics =
@@ -194,17 +200,43 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   }
 
   report(progress, kJunctionShare, "EM training");
-  const Eigen::MatrixXd h = basis.design_matrix(t.junction.junction_c);
-  // The final fit starts where the search's (looser) fit of the chosen candidate ended, unless
-  // the paper's start (Eq. 20) or M-step (Eq. 19 as printed) is asked for, to reproduce them.
-  // θ's coordinates change with the basis's rescaling when the junction was replaced: then θ
-  // starts at least squares.
-  if (structure_fit && em.initialization == core::EmInitialization::Quantiles &&
-      em.m_step == core::MStep::Exact) {
-    const bool rescaled = t.junction_dynamics && t.junction_dynamics->replaced;
-    em.start = rescaled ? least_squares_start(h, y_minus_d, structure_fit->mixture) : *structure_fit;
+  const auto final_fit = [&] {
+    const Eigen::MatrixXd h = basis.design_matrix(t.junction.junction_c);
+    // The final fit starts where the search's (looser) fit of the chosen candidate ended, unless
+    // the paper's start (Eq. 20) or M-step (Eq. 19 as printed) is asked for, to reproduce them.
+    // θ's coordinates change with the basis's rescaling when the junction was replaced: then θ
+    // starts at least squares.
+    core::EmTrainOptions options = em;
+    if (structure_fit && options.initialization == core::EmInitialization::Quantiles &&
+        options.m_step == core::MStep::Exact) {
+      const bool rescaled = t.junction_dynamics && t.junction_dynamics->replaced;
+      options.start =
+          rescaled ? least_squares_start(h, y_minus_d, structure_fit->mixture) : *structure_fit;
+    }
+    if (t.structure) {
+      // The search's fits stop earlier than this one: a mode they kept may empty here, and then
+      // the data show fewer modes than the search counted, not a reason to refuse them.
+      FinalFit fit = train_em_dropping_emptied_modes(h, y_minus_d, options);
+      t.em = std::move(fit.em);
+      t.final_fit_dropped_modes = std::move(fit.dropped_modes);
+    } else {
+      t.em = core::train_em(h, y_minus_d, options);  // a structure given is the user's to answer for
+    }
+  };
+  try {
+    final_fit();
+  } catch (const core::NumericalError& e) {
+    if (!(t.junction_dynamics && t.junction_dynamics->replaced)) throw;
+    // The structure was chosen on the case-log junction; on the junction from the ranges its
+    // basis can be singular (a high order over the other span). The case-log junction, on which
+    // the search fitted it, stays rather than the data being refused.
+    t.junction_dynamics->replaced = false;
+    t.junction_dynamics->refused_by_final_fit = e.what();
+    t.thermal_parameters = t.thermal.identified();
+    t.junction = std::move(case_log_junction);
+    basis = case_log_basis;
+    final_fit();
   }
-  t.em = core::train_em(h, y_minus_d, em);
 
   core::Calibration& c = t.calibration;
   c.thermal = t.thermal_parameters;
@@ -222,6 +254,9 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   c.provenance.notes = "beam " + std::to_string(data.beam) + "; EM " +
                        std::to_string(t.em.iterations) + " iterations" +
                        (t.em.converged ? "" : " (iteration cap reached)");
+  for (const std::string& dropped : t.final_fit_dropped_modes) {
+    c.provenance.notes += "; the final fit dropped " + dropped;
+  }
   c.choices = record_choices(t);
   report(progress, 1.0, "done");
   return t;

@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "calibration/junction_dynamics.hpp"
 #include "calibration/junction_estimate.hpp"
@@ -49,6 +50,8 @@ struct Training {
   // dynamics from the ranges when they replaced it.
   core::ThermalParameters thermal_parameters;
   bool structure_not_chosen = false;  // asked for, but too few ranges: the paper's structure
+  // The modes the final fit emptied and dropped from the search's choice (calibration/final_fit.hpp).
+  std::vector<std::string> final_fit_dropped_modes;
   core::EmTrainResult em;
 };
 

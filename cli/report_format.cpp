@@ -124,7 +124,8 @@ nlohmann::json to_json(const core::Calibration& c) {
 nlohmann::json training_json(const calibration::Training& t) {
   return {{"calibration", to_json(t.calibration)}, {"thermal_fit", to_json(t.thermal)},
           {"choices", choices_json(t)},           {"em_iterations", t.em.iterations},
-          {"em_converged", t.em.converged},       {"log_likelihood", t.em.log_likelihood}};
+          {"em_converged", t.em.converged},       {"log_likelihood", t.em.log_likelihood},
+          {"final_fit_dropped_modes", t.final_fit_dropped_modes}};
 }
 
 nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluations) {

@@ -82,6 +82,9 @@ nlohmann::json to_json(const calibration::JunctionDynamicsFit& fit) {
           {"block_t", fit.block_t},
           {"block_p", fit.block_p},
           {"replaced", fit.replaced},
+          {"refused_by_final_fit", fit.refused_by_final_fit.empty()
+                                       ? nlohmann::json(nullptr)
+                                       : nlohmann::json(fit.refused_by_final_fit)},
           {"evaluations", fit.evaluated.size()}};
 }
 
@@ -146,7 +149,10 @@ std::string junction_dynamics_text(const calibration::JunctionDynamicsFit& fit) 
       "p = {:.2g}; {} points)\n",
       chosen.rise_k, chosen.time_constant_s,
       fit.replaced ? "from the ranges: they reject the case-log fit's junction"
-                   : "the case-log fit's: the ranges do not reject it",
+      : fit.refused_by_final_fit.empty()
+          ? "the case-log fit's: the ranges do not reject it"
+          : "the case-log fit's: the ranges reject it, but the final fit failed on their junction: " +
+                fit.refused_by_final_fit,
       fit.start.dynamics.rise_k, fit.start.dynamics.time_constant_s, fit.datasheet.rise_k,
       fit.datasheet.time_constant_s,
       fit.best.ranges_log_likelihood - fit.start.ranges_log_likelihood,
@@ -164,6 +170,12 @@ std::string choices_text(const calibration::Training& training) {
            "was not given\n";
   } else {
     out += "structure of Eq. 8: as given (--basis, --modes)\n";
+  }
+  for (const std::string& dropped : training.final_fit_dropped_modes) {
+    out += "  the final fit dropped " + dropped + "\n";
+  }
+  if (training.structure && !training.final_fit_dropped_modes.empty()) {
+    out += "  trained with " + std::to_string(training.em.mixture.modes()) + " modes\n";
   }
   if (training.junction_dynamics) out += junction_dynamics_text(*training.junction_dynamics);
   return out;

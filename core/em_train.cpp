@@ -134,7 +134,7 @@ void require_modes_populated(const Eigen::MatrixXd& r, double min_weight, int it
           << " holds a fraction " << weight << " of the samples (minimum " << min_weight
           << "): the data do not show " << r.cols() << " distinct lasing modes; train with fewer "
           << "modes";
-      throw NumericalError(msg.str());
+      throw EmptiedModeError(msg.str(), static_cast<int>(i));
     }
   }
 }

@@ -90,7 +90,7 @@ struct EmTrainResult {
 // Trains on H (K × p, Eq. 17) and ỹ = y − d (K). Throws InvalidInput on bad arguments (NaN,
 // mismatched lengths, too few samples for p columns and M modes, M < 1, Paper initialization
 // with M ≠ 2) and NumericalError when the problem has no unique answer (zero variance, a
-// singular HᵀC⁻¹H, a mode losing every sample).
+// singular HᵀC⁻¹H, a mode losing every sample: EmptiedModeError).
 EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
                        const Eigen::Ref<const Eigen::VectorXd>& y_minus_d,
                        const EmTrainOptions& options = {});

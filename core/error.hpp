@@ -28,4 +28,15 @@ class NumericalError : public Error {
   explicit NumericalError(const std::string& what) : Error(what) {}
 };
 
+// EM emptied a mixture mode: its weight fell under the fit's minimum, so the data do not show
+// as many modes as were fitted. mode(): the emptied mode, 0-based in the fit's order.
+class EmptiedModeError : public NumericalError {
+ public:
+  EmptiedModeError(const std::string& what, int mode) : NumericalError(what), mode_(mode) {}
+  int mode() const { return mode_; }
+
+ private:
+  int mode_;
+};
+
 }  // namespace tofcomp::core

@@ -4,6 +4,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <string>
 
 #include "core/error.hpp"
 #include "core/validation.hpp"
@@ -59,6 +60,29 @@ Eigen::ArrayXd standard_normal_intervals(const Eigen::ArrayXd& a, const Eigen::A
 }
 
 }  // namespace
+
+MixtureParameters without_mode(const MixtureParameters& mixture, int mode) {
+  mixture.validate();
+  if (mode < 0 || mode >= mixture.modes()) {
+    throw InvalidInput("mixture: no mode " + std::to_string(mode + 1) + " of " +
+                       std::to_string(mixture.modes()) + " to drop");
+  }
+  const double rest = 1.0 - mixture.weight[mode];
+  if (mixture.modes() < 2 || !(rest > 0.0)) {
+    throw InvalidInput("mixture: dropping mode " + std::to_string(mode + 1) +
+                       " would leave no mode with weight");
+  }
+  const int m = mixture.modes() - 1;
+  MixtureParameters out{Eigen::VectorXd(m), Eigen::VectorXd(m), Eigen::VectorXd(m)};
+  for (int i = 0, j = 0; i < mixture.modes(); ++i) {
+    if (i == mode) continue;
+    out.mean[j] = mixture.mean[i];
+    out.variance[j] = mixture.variance[i];
+    out.weight[j] = mixture.weight[i] / rest;
+    ++j;
+  }
+  return out;
+}
 
 void MixtureParameters::validate() const {
   if (mean.size() < 1 || variance.size() != mean.size() || weight.size() != mean.size()) {

@@ -21,6 +21,11 @@ struct MixtureParameters {
   double mean_offset() const { return weight.dot(mean); }
 };
 
+// The mixture without mode `mode` (0-based), the other weights renormalized to sum to one.
+// Throws InvalidInput when `mode` is out of range, it is the only mode, or the others weigh
+// nothing.
+MixtureParameters without_mode(const MixtureParameters& mixture, int mode);
+
 // E-step (Eq. 18, Eq. 22) on residuals e_k: the part of y_k the mixture must explain
 // (y_k − d − H_k θ). Fills responsibilities (K × M), r_ki = π_i N(e_k − μ_i, σ_i²) / δ_k, and
 // returns the log-likelihood Σ_k log δ_k. Computed by log-sum-exp, so a residual far in the

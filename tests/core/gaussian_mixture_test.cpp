@@ -85,3 +85,26 @@ TEST(GaussianMixture, RoundedProbabilitiesAreTheIntervalsOfTheModes) {
 
 }  // namespace
 }  // namespace tofcomp::core
+
+namespace tofcomp::core {
+namespace {
+
+// Dropping a mode keeps the others' means and variances and renormalizes their weights.
+TEST(GaussianMixture, WithoutModeRenormalizesTheOthers) {
+  const MixtureParameters m{Eigen::Vector3d(-1.0, 2.0, 40.0), Eigen::Vector3d(0.25, 0.5, 1.0),
+                            Eigen::Vector3d(0.3, 0.5, 0.2)};
+  const MixtureParameters two = without_mode(m, 2);
+  EXPECT_EQ(two.mean, Eigen::Vector2d(-1.0, 2.0));
+  EXPECT_EQ(two.variance, Eigen::Vector2d(0.25, 0.5));
+  EXPECT_NEAR(two.weight[0], 0.375, 1e-15);
+  EXPECT_NEAR(two.weight[1], 0.625, 1e-15);
+  EXPECT_EQ(without_mode(m, 0).mean, Eigen::Vector2d(2.0, 40.0));
+  EXPECT_THROW(without_mode(m, 3), InvalidInput);
+  EXPECT_THROW(without_mode(m, -1), InvalidInput);
+  const MixtureParameters one{Eigen::VectorXd::Constant(1, 0.0), Eigen::VectorXd::Constant(1, 1.0),
+                              Eigen::VectorXd::Constant(1, 1.0)};
+  EXPECT_THROW(without_mode(one, 0), InvalidInput);
+}
+
+}  // namespace
+}  // namespace tofcomp::core

@@ -28,8 +28,11 @@ core::Calibration example() {
   return c;
 }
 
+// A file of this test's own: ctest runs the tests of this file as processes at once, and two
+// that wrote one shared broken.yaml read each other's.
 std::string temp_file(const std::string& name) {
-  return ::testing::TempDir() + "/" + name;
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  return ::testing::TempDir() + "/" + test->test_suite_name() + "." + test->name() + "." + name;
 }
 
 std::string read_all(const std::string& file) {
