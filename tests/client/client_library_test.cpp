@@ -38,7 +38,7 @@ class LiveDaemon : public ::testing::Test {
     write_file(config, config_text(dir_->path(), shm_,
                                    std::string(TOFCOMP_SOURCE_ROOT) + "/config/calibration.yaml"));
     daemon_ = new DaemonProcess(config, dir_->path() / "tofcompd.log");
-    ASSERT_TRUE(wait_for_path(socket(), 30s)) << daemon_->log();
+    ASSERT_TRUE(wait_for_socket(socket(), 30s)) << daemon_->log();
   }
   static void TearDownTestSuite() {
     delete daemon_;

@@ -207,7 +207,7 @@ class Ros2Bridge : public ::testing::Test {
     write_file(config, config_text(dir_.path(), shm_,
                                    std::string(TOFCOMP_SOURCE_ROOT) + "/config/calibration.yaml"));
     daemon_ = std::make_unique<DaemonProcess>(config, dir_.path() / "tofcompd.log");
-    ASSERT_TRUE(wait_for_path(socket(), 30s)) << daemon_->log();
+    ASSERT_TRUE(wait_for_socket(socket(), 30s)) << daemon_->log();
   }
 
   std::string socket() const { return (dir_.path() / "tofcompd.sock").string(); }

@@ -98,7 +98,7 @@ TEST(DaemonCalibrationRun, CyclesThePowerRecordsTrainsAndSwapsWithoutLosingAScan
   const auto config = dir.path() / "tofcompd.yaml";
   write_file(config, run_config(dir.path(), shm));
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
-  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ASSERT_TRUE(wait_for_socket(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
   ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
   ASSERT_TRUE(
       subscriber.request({{"op", "subscribe"}, {"beams", {180, 180}}}, 10s).value("ok", false));
@@ -242,7 +242,7 @@ TEST(DaemonCalibrationRun, RunsAtStartWhenTheCalibrationIsMissing) {
           "  source: power_cycle_run\n  trigger: at_start_if_missing\n");
   write_file(config, text);
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
-  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ASSERT_TRUE(wait_for_socket(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
   ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
   const nlohmann::json first = client.request({{"op", "status"}}, 10s)["status"];
   EXPECT_EQ(first["calibration"]["id"], 0) << first.dump();
@@ -272,7 +272,7 @@ TEST(DaemonCalibrationRun, StoppingDuringARunRestoresThePower) {
   const auto config = dir.path() / "tofcompd.yaml";
   write_file(config, run_config(dir.path(), shm));
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
-  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ASSERT_TRUE(wait_for_socket(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
   ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
   ASSERT_TRUE(client.request({{"op", "recalibrate"}}, 10s).value("ok", false)) << daemon.log();
   std::string phase;

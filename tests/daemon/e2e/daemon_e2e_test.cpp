@@ -55,7 +55,7 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   const std::string calibration = std::string(TOFCOMP_SOURCE_ROOT) + "/config/calibration.yaml";
   write_file(config, config_text(dir.path(), shm, calibration));
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
-  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ASSERT_TRUE(wait_for_socket(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
 
   ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
   // Beams 150 to 210 (61 of 361): the test's JSON parsing keeps up on a loaded machine.
@@ -165,7 +165,7 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
   std::filesystem::create_directory(dir.path() / "replay");
   write_file(dir.path() / "replay" / "tofcompd.yaml", replay_config);
   DaemonProcess replay(dir.path() / "replay" / "tofcompd.yaml", dir.path() / "replay.log");
-  ASSERT_TRUE(wait_for_path(dir.path() / "replay" / "tofcompd.sock", 30s)) << replay.log();
+  ASSERT_TRUE(wait_for_socket(dir.path() / "replay" / "tofcompd.sock", 30s)) << replay.log();
   ipc::socket::SocketClient replay_subscriber((dir.path() / "replay" / "tofcompd.sock").string(),
                                               5s);
   ASSERT_TRUE(replay_subscriber.request({{"op", "subscribe"}, {"beams", {150, 210}}}, 10s)
@@ -260,7 +260,7 @@ TEST(DaemonEndToEnd, RecalibratesWithoutLosingAScan) {
   const auto data = dir.path() / "bench.csv";
   const auto config = write_recalibration_setup(dir, "default", data, "recal");
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
-  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ASSERT_TRUE(wait_for_socket(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
   ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
   ASSERT_TRUE(
       subscriber.request({{"op", "subscribe"}, {"beams", {180, 180}}}, 10s).value("ok", false));
@@ -311,7 +311,7 @@ TEST(DaemonEndToEnd, RecalibrationCarriesWhatTheModelSearchKeeps) {
   const auto config =
       write_recalibration_setup(dir, "effect-time-drift", dir.path() / "drift.csv", "search");
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
-  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ASSERT_TRUE(wait_for_socket(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
   ipc::socket::SocketClient client((dir.path() / "tofcompd.sock").string(), 5s);
   const nlohmann::json started = client.request({{"op", "recalibrate"}}, 10s);
   ASSERT_TRUE(started.value("ok", false)) << started.dump();
@@ -360,7 +360,7 @@ TEST(DaemonEndToEnd, CompensatesWithACalibrationsExtension) {
   const auto config = dir.path() / "tofcompd.yaml";
   write_file(config, config_text(dir.path(), shm, "extended.yaml", "effect-outliers"));
   DaemonProcess daemon(config, dir.path() / "tofcompd.log");
-  ASSERT_TRUE(wait_for_path(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
+  ASSERT_TRUE(wait_for_socket(dir.path() / "tofcompd.sock", 30s)) << daemon.log();
 
   ipc::socket::SocketClient subscriber((dir.path() / "tofcompd.sock").string(), 5s);
   ASSERT_TRUE(

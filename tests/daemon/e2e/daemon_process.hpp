@@ -5,9 +5,12 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -117,6 +120,28 @@ inline bool wait_for_path(const std::filesystem::path& path, std::chrono::second
   const auto until = std::chrono::steady_clock::now() + limit;
   while (std::chrono::steady_clock::now() < until) {
     if (std::filesystem::exists(path)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
+// Waits until a Unix socket at `path` accepts a connection. The daemon binds the socket (which
+// makes the file) a moment before it listens, so a client that connects as soon as the file
+// exists may be refused: waiting for the file alone made the end-to-end tests fail now and then.
+inline bool wait_for_socket(const std::filesystem::path& path, std::chrono::seconds limit) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  const std::string name = path.string();
+  if (name.size() >= sizeof(address.sun_path)) return false;
+  std::copy(name.begin(), name.end(), address.sun_path);
+  while (std::chrono::steady_clock::now() < until) {
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) return false;
+    const bool accepted =
+        ::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0;
+    ::close(fd);
+    if (accepted) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   return false;

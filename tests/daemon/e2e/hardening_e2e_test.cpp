@@ -95,7 +95,7 @@ struct HardenedDaemon {
   }
   void start() {
     process = std::make_unique<DaemonProcess>(config, dir.path() / "tofcompd.log");
-    ASSERT_TRUE(wait_for_path(socket(), 30s)) << process->log();
+    ASSERT_TRUE(wait_for_socket(socket(), 30s)) << process->log();
   }
   std::filesystem::path socket() const { return dir.path() / "tofcompd.sock"; }
   std::string log() const { return process ? process->log() : ""; }
