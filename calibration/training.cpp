@@ -4,8 +4,8 @@
 
 #include "calibration/basis_spec.hpp"
 #include "calibration/final_fit.hpp"
-#include "core/error.hpp"
 #include "calibration/parallel_for.hpp"
+#include "core/error.hpp"
 #include "io/utc_time.hpp"
 #include "io/version.hpp"
 

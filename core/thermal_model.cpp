@@ -1,6 +1,6 @@
-#include <algorithm>
 #include "core/thermal_model.hpp"
 
+#include <algorithm>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <sstream>

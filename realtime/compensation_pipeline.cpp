@@ -31,9 +31,7 @@ void CompensationPipeline::clear_calibration() {
 void CompensationPipeline::set_settings(const PipelineSettings& settings) {
   if (settings == settings_) return;  // nothing changes: the windows go on
   compensator_.set_window_options(settings.window);
-  const bool junction_changed =
-      settings.junction.stale_after_s != settings_.junction.stale_after_s ||
-      settings.junction.initial_case_std_c != settings_.junction.initial_case_std_c;
+  const bool junction_changed = !(settings.junction == settings_.junction);
   settings_ = settings;
   if (junction_changed) restart_tracker();
 }

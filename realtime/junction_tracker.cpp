@@ -31,7 +31,7 @@ void JunctionTracker::add_case_reading(double time_s, double case_c) {
     throw core::InvalidInput("junction tracker: a case reading must be finite");
   }
   if (!filter_) {
-    // The prior of the offline pipeline: the steady state at this case temperature.
+    // The prior of the offline pipeline: the junction at rest on the heat the case sheds.
     filter_.emplace(calibration_.thermal, calibration_.kalman_noise,
                     core::prior_at_case_temperature(
                         calibration_.thermal, case_c, calibration_.ambient_c,
