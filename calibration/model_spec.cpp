@@ -1,5 +1,6 @@
 #include "calibration/model_spec.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -148,7 +149,8 @@ core::NoiseBins neutral_bins(const core::Term& term, const Eigen::VectorXd& valu
 }  // namespace
 
 SearchData::SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_design,
-                       core::CovariateTable covariates)
+                       core::CovariateTable covariates,
+                       const std::vector<Eigen::Index>& half_rows, double minimum_half_ranges)
     : y_(std::move(y_minus_d)), covariates_(std::move(covariates)) {
   if (basis_design.rows() != y_.size() || covariates_.size() != y_.size()) {
     throw core::InvalidInput("the search's ranges, basis design and covariates differ in length");
@@ -165,6 +167,23 @@ SearchData::SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_d
   r_ = qr.matrixQR().topLeftCorner(rank, rank).triangularView<Eigen::Upper>();
   r_ /= scale;
   for (Eigen::Index i = 0; i < rank; ++i) retained_.push_back(qr.colsPermutation().indices()[i]);
+  rotation_ = Eigen::MatrixXd::Identity(rank, rank);
+  // Each direction's share on the first half: the eigenvalues of G / K, G its Gram there. A
+  // direction's weight on a half, in ranges (each range carries one on average), is its share
+  // times K.
+  const Eigen::MatrixXd half = basis_design_(half_rows, Eigen::all);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> shares(
+      half.transpose() * half / static_cast<double>(k));
+  const Eigen::ArrayXd share = shares.eigenvalues().array();
+  const auto determined =
+      (share.min(1.0 - share) * static_cast<double>(k) >= minimum_half_ranges).eval();
+  undetermined_by_a_half_ = rank - determined.count();
+  if (undetermined_by_a_half_ == 0) return;
+  rotation_.resize(rank, rank - undetermined_by_a_half_);
+  for (Eigen::Index i = 0, kept = 0; i < rank; ++i) {
+    if (determined[i]) rotation_.col(kept++) = shares.eigenvectors().col(i);
+  }
+  basis_design_ = basis_design_ * rotation_;
 }
 
 void SearchData::to_orthogonal(const Eigen::VectorXd& basis_theta, Eigen::VectorXd& theta,
@@ -178,7 +197,7 @@ void SearchData::to_orthogonal(const Eigen::VectorXd& basis_theta, Eigen::Vector
 void SearchData::to_basis(const Eigen::VectorXd& orthogonal_theta, Eigen::VectorXd& theta,
                           Eigen::VectorXd& mean) const {
   const Eigen::VectorXd retained =
-      r_.triangularView<Eigen::Upper>().solve(orthogonal_theta);
+      r_.triangularView<Eigen::Upper>().solve(rotation_ * orthogonal_theta);
   theta = Eigen::VectorXd::Zero(column_mean_.size());
   for (std::size_t i = 0; i < retained_.size(); ++i) {
     theta[retained_[i]] = retained[static_cast<Eigen::Index>(i)];

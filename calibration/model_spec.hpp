@@ -23,13 +23,26 @@ namespace tofcomp::calibration {
 // the same fitted bias up to the constant the mode offsets carry, but conditioned on any half of
 // the ranges, where a high-order basis the structure search chose on all of them (a Fourier
 // series over a few kelvin is nearly constant) can be singular to working precision.
+//
+// Each half must determine the bias too. The search fits every model on one half of the ranges
+// (`half_rows`) and on the other. Since QᵀQ = K I, the two halves' Gram matrices G and K I − G
+// share their eigenvectors: a direction v of Q carries the share s = vᵀGv / K of its weight on
+// the first half and 1 − s on the second, s·K and (1 − s)·K ranges' worth (a range carries one
+// on average). A direction either half holds less than `minimum_half_ranges` ranges' worth of
+// (a basis order the structure search fitted to a few ranges at one end of the temperatures,
+// all in one block, say) is not determined there, and is dropped from Q: rotated onto the
+// eigenvectors, Q keeps those both halves determine. Otherwise Q is left as the QR gave it.
 class SearchData {
  public:
   SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_design,
-             core::CovariateTable covariates);
+             core::CovariateTable covariates, const std::vector<Eigen::Index>& half_rows,
+             double minimum_half_ranges);
   Eigen::Index size() const { return y_.size(); }
   const Eigen::VectorXd& y() const { return y_; }
   const Eigen::MatrixXd& basis_design() const { return basis_design_; }  // Q
+  // Directions of the centred basis dropped because one half of the ranges does not determine
+  // them (the QR's rank-deficient ones aside).
+  Eigen::Index directions_undetermined_by_a_half() const { return undetermined_by_a_half_; }
   const core::CovariateTable& covariates() const { return covariates_; }
   // The paper's θ and mode offsets in Q's coordinates, and back (the offsets shift by h̄θ).
   void to_orthogonal(const Eigen::VectorXd& basis_theta, Eigen::VectorXd& theta,
@@ -46,6 +59,8 @@ class SearchData {
   Eigen::RowVectorXd column_mean_;  // h̄
   Eigen::MatrixXd basis_centred_;   // H − 1h̄, for the projection of a θ onto Q
   Eigen::MatrixXd r_;               // the retained columns' R (r × r)
+  Eigen::MatrixXd rotation_;        // Q's columns in the QR's (r × columns of Q)
+  Eigen::Index undetermined_by_a_half_ = 0;
   std::vector<Eigen::Index> retained_;  // those columns of H
   core::CovariateTable covariates_;
 };

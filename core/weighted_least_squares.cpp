@@ -51,8 +51,9 @@ Eigen::VectorXd solve_normal_equations(const Eigen::Ref<const Eigen::MatrixXd>& 
   const double rcond = ldlt.info() == Eigen::Success ? ldlt.rcond() : 0.0;
   if (!(pivot_ratio > kSingularReciprocalCondition) || !(rcond > kSingularReciprocalCondition)) {
     std::ostringstream msg;
+    // A negative pivot (an indefinite matrix, from rounding) is a reciprocal condition of 0.
     msg << what << " is singular to working precision (reciprocal condition "
-        << std::min(rcond, pivot_ratio) << "): the data do not determine the " << p
+        << std::max(0.0, std::min(rcond, pivot_ratio)) << "): the data do not determine the " << p
         << " basis coefficients; use fewer basis columns or data spanning more distinct "
            "temperatures (paper, end of §5)";
     throw NumericalError(msg.str());

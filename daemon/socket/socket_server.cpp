@@ -4,6 +4,7 @@
 
 #include <sys/stat.h>
 #include <sys/un.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -29,6 +30,19 @@ using Stream = asio::local::stream_protocol::socket;
 namespace {
 constexpr std::chrono::milliseconds kAcceptErrorPause{100};
 constexpr std::size_t kMaxPathBytes = sizeof(sockaddr_un::sun_path) - 1;
+
+// Where start() binds before the socket is ready: a hidden name beside the path, so that the
+// path appears only once the socket has its permissions and listens (a client connecting
+// between bind and listen would be refused; one connecting before chmod would meet the umask's
+// permissions). Empty when that name would not fit a Unix socket address: then the path itself.
+std::string binding_name(const std::string& path) {
+  const std::size_t slash = path.rfind('/');
+  const std::string directory =
+      slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  const std::string name = directory + "." + base + "." + std::to_string(::getpid());
+  return name.size() <= kMaxPathBytes ? name : std::string();
+}
 }  // namespace
 
 void SocketServerSettings::validate() const {
@@ -139,9 +153,13 @@ void SocketServer::Impl::start() {
   if (running_) return;
   const std::string& path = settings_.path;
   if (clear_stale_socket(path)) log(SocketLogLevel::Info, "removed the stale socket file " + path);
+  const std::string hidden = binding_name(path);
+  const std::string& bound = hidden.empty() ? path : hidden;
+  // A file left at the hidden name by this process id is a socket of a daemon that died.
+  if (!hidden.empty()) clear_stale_socket(hidden);
   boost::system::error_code ec;
   acceptor_.open(asio::local::stream_protocol(), ec);
-  if (!ec) acceptor_.bind(asio::local::stream_protocol::endpoint(path), ec);
+  if (!ec) acceptor_.bind(asio::local::stream_protocol::endpoint(bound), ec);
   if (ec) {
     boost::system::error_code ignored;
     acceptor_.close(ignored);
@@ -150,19 +168,33 @@ void SocketServer::Impl::start() {
                            ? " (its directory does not exist)"
                            : ""));
   }
-  made_ = identity_of(path);
+  made_ = identity_of(bound);
   const auto undo = [&](const std::string& what) {
     boost::system::error_code ignored;
     acceptor_.close(ignored);
-    if (made_) remove_if_same(path, *made_);
+    if (made_) {
+      remove_if_same(bound, *made_);
+      remove_if_same(path, *made_);
+    }
     made_.reset();
     throw core::Error(what);
   };
-  if (::chmod(path.c_str(), static_cast<mode_t>(settings_.permissions)) != 0) {
+  if (::chmod(bound.c_str(), static_cast<mode_t>(settings_.permissions)) != 0) {
     undo("cannot set the permissions of " + path + ": " + std::strerror(errno));
   }
   acceptor_.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) undo("cannot listen on " + path + ": " + ec.message());
+  // The listening socket's file gets the path as a second name (link fails, where rename would
+  // replace, when another daemon claimed the path meanwhile), then loses the hidden one: from
+  // here a client that finds the path connects.
+  if (!hidden.empty()) {
+    if (::link(hidden.c_str(), path.c_str()) != 0) {
+      const int error = errno;
+      undo(error == EEXIST ? "another process claimed " + path + " while tofcompd started"
+                           : "cannot name the socket " + path + ": " + std::strerror(error));
+    }
+    ::unlink(hidden.c_str());
+  }
   running_ = true;
   asio::co_spawn(io_, accept_loop(shared_from_this(), ++generation_), asio::detached);
   log(SocketLogLevel::Info, "listening on " + path);

@@ -9,6 +9,9 @@
 #include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "ipc/socket/client.hpp"
 #include "tests/daemon/socket/server_harness.hpp"
@@ -83,6 +86,48 @@ TEST(ServerSocketFile, PermissionsAreSet) {
   ASSERT_EQ(::stat(h.path().c_str(), &st), 0);
   EXPECT_TRUE(S_ISSOCK(st.st_mode));
   EXPECT_EQ(st.st_mode & 0777, 0640u);
+}
+
+// A client that finds the path can connect at once, and the file already has its permissions:
+// the server binds under a hidden name and gives the socket the path only once it listens.
+TEST(ServerSocketFile, ThePathAppearsListeningWithItsPermissions) {
+  sock::SocketServerSettings settings;
+  settings.permissions = 0600;
+  SocketHarness h(settings);
+  struct Seen {
+    bool appeared = false;
+    int connect_result = -1;
+    int connect_errno = 0;
+    unsigned mode = 0;
+  } seen;
+  std::thread watcher([&] {
+    const auto deadline = std::chrono::steady_clock::now() + kTimeout;
+    struct stat st {};
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (::lstat(h.path().c_str(), &st) != 0) continue;
+      seen.appeared = true;
+      seen.mode = st.st_mode & 0777;
+      const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+      sockaddr_un address{};
+      address.sun_family = AF_UNIX;
+      std::strcpy(address.sun_path, h.path().c_str());
+      seen.connect_result = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address);
+      seen.connect_errno = errno;
+      ::close(fd);
+      return;
+    }
+  });
+  h.start_server();
+  watcher.join();
+  ASSERT_TRUE(seen.appeared);
+  EXPECT_EQ(seen.connect_result, 0) << std::strerror(seen.connect_errno);
+  EXPECT_EQ(seen.mode, 0600u);
+  // Nothing but the socket is left in its directory.
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(h.dir())) {
+    names.push_back(entry.path().filename().string());
+  }
+  EXPECT_EQ(names, std::vector<std::string>{"tofcompd.sock"});
 }
 
 TEST(ServerSocketFile, StopRemovesTheFileAndEndsConnectionsAndStartListensAgain) {
