@@ -41,8 +41,8 @@ constexpr int kGoldenSteps = 6;
 // A direction of the bias that a fold holds less than this many ranges' worth of is not
 // determined by it (SearchData). The folds' shares of a well-spread direction vary by tens of
 // percent from one draw of the blocks to another (down to 4 % of 7,000 ranges, 260 ranges'
-// worth, in the tests' clean records), and a direction so dropped is missing from every model
-// the search compares; one a fold holds a few ranges' worth of is fitted to those ranges alone
+// worth, in the tests' clean records), and a direction so held is one no model the search
+// compares can move; one a fold holds a few ranges' worth of is fitted to those ranges alone
 // (or not at all: singular to working precision).
 constexpr double kMinimumRangesPerDirection = 10.0;
 // The screen (model_search.hpp): every candidate's short fit, this many EM iterations from the
@@ -477,8 +477,8 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   const Folds folds = make_folds(junction.junction_c, options.windows);
   const SearchData search_data(data.range_mm - data.true_range_mm,
                                calibration.model.basis.design_matrix(junction.junction_c),
-                               covariate_table(data, junction), folds.training(0),
-                               kMinimumRangesPerDirection);
+                               covariate_table(data, junction), calibration.model.theta,
+                               folds.training(0), kMinimumRangesPerDirection);
   const double floor = options.resolution * options.resolution / 12.0;
   const TermFitter fitter(search_data, floor);
   const int threads = thread_count(options.threads);
@@ -492,7 +492,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   ModelSearchResult result;
   result.block = folds.block;
   result.blocks = folds.blocks;
-  result.basis_directions_left_out = search_data.directions_undetermined_by_a_half();
+  result.basis_directions_held = search_data.directions_undetermined_by_a_half();
 
   // The training's model on each fold, from its fit on all the data.
   core::ExtendedParameters base_fit{

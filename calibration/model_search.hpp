@@ -108,9 +108,9 @@ struct ModelSearchResult {
   Eigen::Index block = 0;             // ranges per block
   Eigen::Index blocks = 0;
   int candidates_per_step = 0;
-  // Directions of the training's basis the search left out: one half of the ranges does not
-  // determine them (SearchData); the calibration it writes has its bias without them.
-  Eigen::Index basis_directions_left_out = 0;
+  // Directions of the training's bias the search held at the training's fit: one half of the
+  // ranges does not determine them (SearchData); the calibration it writes keeps them so.
+  Eigen::Index basis_directions_held = 0;
 };
 
 using ModelSearchProgress = std::function<void(double share, const std::string& stage)>;

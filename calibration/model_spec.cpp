@@ -150,6 +150,7 @@ core::NoiseBins neutral_bins(const core::Term& term, const Eigen::VectorXd& valu
 
 SearchData::SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_design,
                        core::CovariateTable covariates,
+                       const Eigen::VectorXd& held_theta,
                        const std::vector<Eigen::Index>& half_rows, double minimum_half_ranges)
     : y_(std::move(y_minus_d)), covariates_(std::move(covariates)) {
   if (basis_design.rows() != y_.size() || covariates_.size() != y_.size()) {
@@ -178,11 +179,24 @@ SearchData::SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_d
   const auto determined =
       (share.min(1.0 - share) * static_cast<double>(k) >= minimum_half_ranges).eval();
   undetermined_by_a_half_ = rank - determined.count();
+  held_coordinates_ = Eigen::VectorXd::Zero(rank);
   if (undetermined_by_a_half_ == 0) return;
+  if (held_theta.size() != basis_design.cols()) {
+    throw core::InvalidInput("the search's held θ and basis design differ in columns");
+  }
+  // The undetermined directions' coordinates of the training's bias, held: subtracted from y.
+  const Eigen::VectorXd coordinates =
+      basis_design_.transpose() * (basis_centred_ * held_theta) / static_cast<double>(k);
   rotation_.resize(rank, rank - undetermined_by_a_half_);
   for (Eigen::Index i = 0, kept = 0; i < rank; ++i) {
-    if (determined[i]) rotation_.col(kept++) = shares.eigenvectors().col(i);
+    const Eigen::VectorXd direction = shares.eigenvectors().col(i);
+    if (determined[i]) {
+      rotation_.col(kept++) = direction;
+    } else {
+      held_coordinates_ += direction * direction.dot(coordinates);
+    }
   }
+  y_ -= basis_design_ * held_coordinates_;
   basis_design_ = basis_design_ * rotation_;
 }
 
@@ -197,7 +211,7 @@ void SearchData::to_orthogonal(const Eigen::VectorXd& basis_theta, Eigen::Vector
 void SearchData::to_basis(const Eigen::VectorXd& orthogonal_theta, Eigen::VectorXd& theta,
                           Eigen::VectorXd& mean) const {
   const Eigen::VectorXd retained =
-      r_.triangularView<Eigen::Upper>().solve(rotation_ * orthogonal_theta);
+      r_.triangularView<Eigen::Upper>().solve(rotation_ * orthogonal_theta + held_coordinates_);
   theta = Eigen::VectorXd::Zero(column_mean_.size());
   for (std::size_t i = 0; i < retained_.size(); ++i) {
     theta[retained_[i]] = retained[static_cast<Eigen::Index>(i)];

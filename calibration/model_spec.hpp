@@ -30,21 +30,25 @@ namespace tofcomp::calibration {
 // the first half and 1 − s on the second, s·K and (1 − s)·K ranges' worth (a range carries one
 // on average). A direction either half holds less than `minimum_half_ranges` ranges' worth of
 // (a basis order the structure search fitted to a few ranges at one end of the temperatures,
-// all in one block, say) is not determined there, and is dropped from Q: rotated onto the
-// eigenvectors, Q keeps those both halves determine. Otherwise Q is left as the QR gave it.
+// all in one block, say) is not determined there. Its coordinate is held at the training's fit
+// (`held_theta`, which saw all the ranges): that part of the bias is subtracted from y − d, and
+// Q, rotated onto the eigenvectors, keeps the directions both halves determine. (Dropping the
+// direction instead would drop with it the little of the smooth bias its eigenvector mixes in.)
+// When every direction is determined Q is left as the QR gave it and y − d as given.
 class SearchData {
  public:
   SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_design,
-             core::CovariateTable covariates, const std::vector<Eigen::Index>& half_rows,
-             double minimum_half_ranges);
+             core::CovariateTable covariates, const Eigen::VectorXd& held_theta,
+             const std::vector<Eigen::Index>& half_rows, double minimum_half_ranges);
   Eigen::Index size() const { return y_.size(); }
-  const Eigen::VectorXd& y() const { return y_; }
+  const Eigen::VectorXd& y() const { return y_; }  // y − d, less the bias held (above)
   const Eigen::MatrixXd& basis_design() const { return basis_design_; }  // Q
-  // Directions of the centred basis dropped because one half of the ranges does not determine
-  // them (the QR's rank-deficient ones aside).
+  // Directions of the centred basis held at the training's fit because one half of the ranges
+  // does not determine them (the QR's rank-deficient ones aside).
   Eigen::Index directions_undetermined_by_a_half() const { return undetermined_by_a_half_; }
   const core::CovariateTable& covariates() const { return covariates_; }
-  // The paper's θ and mode offsets in Q's coordinates, and back (the offsets shift by h̄θ).
+  // The paper's θ and mode offsets in Q's coordinates, and back (the offsets shift by h̄θ; back,
+  // the held directions' coordinates are added).
   void to_orthogonal(const Eigen::VectorXd& basis_theta, Eigen::VectorXd& theta,
                      Eigen::VectorXd& mean) const;
   void to_basis(const Eigen::VectorXd& orthogonal_theta, Eigen::VectorXd& theta,
@@ -60,6 +64,7 @@ class SearchData {
   Eigen::MatrixXd basis_centred_;   // H − 1h̄, for the projection of a θ onto Q
   Eigen::MatrixXd r_;               // the retained columns' R (r × r)
   Eigen::MatrixXd rotation_;        // Q's columns in the QR's (r × columns of Q)
+  Eigen::VectorXd held_coordinates_;  // the held directions' part of the bias, in the QR's
   Eigen::Index undetermined_by_a_half_ = 0;
   std::vector<Eigen::Index> retained_;  // those columns of H
   core::CovariateTable covariates_;

@@ -103,7 +103,7 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
   return {{"alpha", options.alpha},
           {"block", search.block},
           {"blocks", search.blocks},
-          {"basis_directions_left_out", search.basis_directions_left_out},
+          {"basis_directions_held", search.basis_directions_held},
           {"candidates_per_step", search.candidates_per_step},
           {"steps", steps},
           {"best", best ? label_json(best->term) : nlohmann::json(nullptr)},
@@ -126,11 +126,11 @@ std::string search_text(const calibration::ModelSearchResult& search,
                         options.refined_candidates)
           : std::string("each fitted to convergence"),
       options.alpha);
-  if (search.basis_directions_left_out > 0) {
+  if (search.basis_directions_held > 0) {
     text += fmt::format(
-        "  the bias without {} of its basis directions: one fold holds too few ranges' worth "
-        "of each to determine it (the calibration written leaves them out)\n",
-        search.basis_directions_left_out);
+        "  {} of the bias's basis directions held at the training's fit: one fold holds too "
+        "few ranges' worth of each to determine it\n",
+        search.basis_directions_held);
   }
   text += search.kept.empty() ? "verdict: nothing kept: the paper's model explains the data\n"
                               : fmt::format("verdict: the model lacks {}\n", kept_names(search));
