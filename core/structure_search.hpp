@@ -5,7 +5,8 @@
 //
 // Held out how. The training ranges are cut into blocks of `block` consecutive ranges, and block
 // b goes to fold b mod `folds`. A candidate (basis, M) is trained on all of them (§5), then once
-// per fold on the other folds, warm-started from the whole fit, and scored on the fold left out:
+// per fold on the other folds, warm-started from the same fold's fit of the order below where
+// the bases nest (from the whole fit otherwise), and scored on the fold left out:
 // Σ log p(y_k − d − H(t_k)θ) under its mixture, over the fold's ranges whose junction
 // temperature lies inside those its training saw (beyond them compensation does not trust the
 // basis: it continues the bias along its tangent, core/measurement_model.hpp). Given the junction
