@@ -185,8 +185,7 @@ SearchData::SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_d
     throw core::InvalidInput("the search's held θ and basis design differ in columns");
   }
   // The undetermined directions' coordinates of the training's bias, held: subtracted from y.
-  const Eigen::VectorXd coordinates =
-      basis_design_.transpose() * (basis_centred_ * held_theta) / static_cast<double>(k);
+  const Eigen::VectorXd coordinates = coordinates_of(held_theta);
   rotation_.resize(rank, rank - undetermined_by_a_half_);
   for (Eigen::Index i = 0, kept = 0; i < rank; ++i) {
     const Eigen::VectorXd direction = shares.eigenvectors().col(i);
@@ -202,10 +201,15 @@ SearchData::SearchData(Eigen::VectorXd y_minus_d, const Eigen::MatrixXd& basis_d
 
 void SearchData::to_orthogonal(const Eigen::VectorXd& basis_theta, Eigen::VectorXd& theta,
                                Eigen::VectorXd& mean) const {
-  // The least-squares θ of Q for the centred bias (H − 1h̄)θ; its constant h̄θ joins the offsets.
-  const double k = static_cast<double>(y_.size());
-  theta = basis_design_.transpose() * (basis_centred_ * basis_theta) / k;
+  theta = coordinates_of(basis_theta);
+  // The bias's constant h̄θ joins the offsets.
   mean.array() += column_mean_.dot(basis_theta);
+}
+
+Eigen::VectorXd SearchData::coordinates_of(const Eigen::VectorXd& basis_theta) const {
+  // The least-squares coordinates in Q of the centred bias (H − 1h̄)θ (QᵀQ = K I).
+  return basis_design_.transpose() * (basis_centred_ * basis_theta) /
+         static_cast<double>(y_.size());
 }
 
 void SearchData::to_basis(const Eigen::VectorXd& orthogonal_theta, Eigen::VectorXd& theta,

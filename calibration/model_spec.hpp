@@ -58,6 +58,9 @@ class SearchData {
   Eigen::VectorXi bins(const core::Term& term) const { return covariates_.bins(term); }
 
  private:
+  // A θ of H's columns as coordinates in Q, as Q stands (in the constructor, before its rotation).
+  Eigen::VectorXd coordinates_of(const Eigen::VectorXd& basis_theta) const;
+
   Eigen::VectorXd y_;
   Eigen::MatrixXd basis_design_;
   Eigen::RowVectorXd column_mean_;  // h̄
