@@ -100,13 +100,7 @@ MeasuredData MeasuredData::slice(double begin_s, double end_s) const {
   for (Eigen::Index k = 0; k < range_time_s.size(); ++k) {
     if (range_time_s[k] >= begin_s && range_time_s[k] < end_s) ranges.push_back(k);
   }
-  out.range_time_s = range_time_s(ranges);
-  out.range_mm = range_mm(ranges);
-  out.true_range_mm = true_range_mm(ranges);
-  for (const auto k : ranges) {
-    out.has_true_range.push_back(has_true_range[static_cast<std::size_t>(k)]);
-    out.range_line.push_back(range_line.empty() ? 0 : range_line[static_cast<std::size_t>(k)]);
-  }
+  copy_ranges(ranges, out);
   std::vector<Eigen::Index> readings;
   for (Eigen::Index k = 0; k < temperature_time_s.size(); ++k) {
     if (temperature_time_s[k] >= begin_s && temperature_time_s[k] < end_s) readings.push_back(k);
@@ -126,6 +120,24 @@ MeasuredData MeasuredData::slice(double begin_s, double end_s) const {
       if (e.first > begin_s) out.ambient.push_back(e);
     }
   }
+  return out;
+}
+
+void MeasuredData::copy_ranges(const std::vector<Eigen::Index>& ranges, MeasuredData& out) const {
+  out.range_time_s = range_time_s(ranges);
+  out.range_mm = range_mm(ranges);
+  out.true_range_mm = true_range_mm(ranges);
+  out.has_true_range.clear();
+  out.range_line.clear();
+  for (const auto k : ranges) {
+    out.has_true_range.push_back(has_true_range[static_cast<std::size_t>(k)]);
+    out.range_line.push_back(range_line.empty() ? 0 : range_line[static_cast<std::size_t>(k)]);
+  }
+}
+
+MeasuredData MeasuredData::with_ranges(const std::vector<Eigen::Index>& ranges) const {
+  MeasuredData out = *this;
+  copy_ranges(ranges, out);
   return out;
 }
 

@@ -52,6 +52,13 @@ struct MeasuredData {
   void require_true_ranges() const;
   // The subset of ranges, temperatures, power and ambient in [begin_s, end_s).
   MeasuredData slice(double begin_s, double end_s) const;
+  // The same record with only these ranges (indices, in time order); the case log, the power
+  // and the ambient whole.
+  MeasuredData with_ranges(const std::vector<Eigen::Index>& ranges) const;
+
+ private:
+  // `ranges` of this record's into out's range vectors.
+  void copy_ranges(const std::vector<Eigen::Index>& ranges, MeasuredData& out) const;
 };
 
 // The case log of the thermal identification (§3.2) at the temperature readings.

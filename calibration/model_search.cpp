@@ -420,6 +420,18 @@ std::vector<HeldOutError> compare_held_out(const WindowErrors& before, const Win
   return out;
 }
 
+// The outlier component of a calibration's extension, as the grammar's term.
+std::optional<core::Term> carried_outliers(const core::Calibration& base) {
+  if (!base.extension || !(base.extension->extended_mixture.outlier_weight > 0.0)) {
+    return std::nullopt;
+  }
+  core::Term t;
+  t.parameter = core::Parameter::Outliers;
+  t.covariate = core::Covariate::None;
+  t.form = core::Form::None;
+  return t;
+}
+
 }  // namespace
 
 std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariates, int modes) {
@@ -473,6 +485,9 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
                                const ModelSearchProgress& progress) {
   data.require_true_ranges();
   core::Calibration calibration = base;
+  // The outlier component training gave the gross errors (calibration/gross_errors.hpp) is the
+  // model the search starts from; any other extension is left aside and searched for again.
+  const std::optional<core::Term> carried = carried_outliers(base);
   calibration.extension.reset();
   const Folds folds = make_folds(junction.junction_c, options.windows);
   const SearchData search_data(data.range_mm - data.true_range_mm,
@@ -500,15 +515,24 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
       std::vector<Eigen::VectorXd>(static_cast<std::size_t>(calibration.model.mixture.modes())),
       core::without_extensions(calibration.model.mixture)};
   search_data.to_orthogonal(calibration.model.theta, base_fit.theta, base_fit.model.modes.mean);
+  ModelSpec base_spec;
+  if (carried) {
+    base_spec.outliers = true;
+    base_spec.effects.push_back(carried->label());
+    base_fit.model.outlier_weight = base.extension->extended_mixture.outlier_weight;
+    base_fit.model.outlier_density = base.extension->extended_mixture.outlier_density;
+    result.kept.push_back(*carried);
+    result.carried_from_training = 1;
+  }
   std::array<FoldModel, kFolds> held;
   Eigen::VectorXd held_scores = Eigen::VectorXd::Zero(search_data.size());
   // The folds at once: each writes its own model and its own held-out rows' scores.
   parallel_for(kFolds, threads, [&](int f) {
     const auto& rows = folds.training(f);
     const core::ExtendedDesign design =
-        design_of(ModelSpec{}, search_data, calibration.model.mixture.modes(), rows);
+        design_of(base_spec, search_data, calibration.model.mixture.modes(), rows);
     held[static_cast<std::size_t>(f)] = {
-        ModelSpec{}, core::train_extended_em(design, search_data.y()(rows), base_fit,
+        base_spec, core::train_extended_em(design, search_data.y()(rows), base_fit,
                                              em_options(floor, kFitIterations))
                          .fit};
     score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
@@ -627,7 +651,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   }
 
   // The kept terms fitted on all the data, in the order the search added them.
-  FoldModel all{ModelSpec{}, base_fit};
+  FoldModel all{base_spec, base_fit};
   for (const SearchStep& s : result.steps) {
     if (!s.kept) continue;
     Fitted f = fitter.fit(all, s.named()->term, {});
@@ -635,7 +659,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     result.kept.push_back(last_added(all.spec, s.named()->term));
   }
   result.calibration = calibration_of(all.spec, all.fit, calibration, search_data);
-  if (!result.kept.empty()) {
+  if (result.kept.size() > static_cast<std::size_t>(result.carried_from_training)) {
     result.calibration.provenance.notes += "; extended by the model search";
   }
   result.errors = compare_held_out(training_errors, held_errors, held[0].fit.model.modes, folds,

@@ -103,6 +103,9 @@ struct SearchStep {
 struct ModelSearchResult {
   std::vector<SearchStep> steps;
   std::vector<core::Term> kept;       // in the order added, as fitted on all the data
+  // The first kept terms came with the training's calibration rather than from a step: its
+  // outlier component for gross errors (calibration/gross_errors.hpp), 0 or 1.
+  int carried_from_training = 0;
   core::Calibration calibration;      // the training's model with the kept terms, on all the data
   std::vector<HeldOutError> errors;   // the training's model against the final one
   Eigen::Index block = 0;             // ranges per block
@@ -117,7 +120,8 @@ using ModelSearchProgress = std::function<void(double share, const std::string& 
 
 // The search on data with a known distance, from the paper's model trained on them (its thermal
 // model, basis, θ and modes; an extension it may carry is left aside) and their smoothed junction
-// temperature under it. Throws core::InvalidInput
+// temperature under it; an outlier component it carries (training's, for gross errors) stays in
+// every model the search compares and heads `kept`. Throws core::InvalidInput
 // when the data are too short for two folds of ten blocks, and core::Error when the held model
 // cannot be fitted on a fold.
 ModelSearchResult search_model(const MeasuredData& data, const core::Calibration& base,

@@ -4,6 +4,7 @@
 
 #include "calibration/basis_spec.hpp"
 #include "calibration/final_fit.hpp"
+#include "calibration/gross_errors.hpp"
 #include "calibration/parallel_for.hpp"
 #include "core/error.hpp"
 #include "io/utc_time.hpp"
@@ -108,7 +109,7 @@ core::TrainingChoices record_choices(const Training& t) {
 JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSettings& settings,
                                       const core::MapFitResult& case_fit,
                                       const core::ThermalNoise& noise,
-                                      const SmoothedJunction& junction, const core::Basis& basis,
+                                      const Eigen::VectorXd& junction_c, const core::Basis& basis,
                                       const core::EmTrainOptions& em,
                                       const std::optional<core::EmStartingPoint>& structure_fit) {
   JunctionDynamicsOptions options = settings.junction_dynamics;
@@ -122,7 +123,7 @@ JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSetti
     first.modes = em.modes;
     first.record_trace = false;
     const core::EmTrainResult fit = core::train_em(
-        basis.design_matrix(junction.junction_c), data.range_mm - data.true_range_mm, first);
+        basis.design_matrix(junction_c), data.range_mm - data.true_range_mm, first);
     start = core::EmStartingPoint{fit.theta, fit.mixture};
   }
   const JunctionDynamicsProblem problem{data,  case_fit, settings.thermal.prior,
@@ -152,7 +153,18 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   }
   t.junction =
       junction_at_ranges(data, t.thermal_parameters, noise, settings.thermal.ambient_fallback_c);
-  const Eigen::VectorXd y_minus_d = data.range_mm - data.true_range_mm;
+  // Eq. 8 is fitted on the ranges a lasing mode can give; the gross errors join the calibration
+  // as its outlier component (calibration/gross_errors.hpp). t.junction stays on every range.
+  t.gross_errors = find_gross_errors(data);
+  const bool has_gross_errors = t.gross_errors.count > 0;
+  std::optional<MeasuredData> lasing_ranges;
+  if (has_gross_errors) lasing_ranges = data.with_ranges(t.gross_errors.kept);
+  const MeasuredData& fit_data = has_gross_errors ? *lasing_ranges : data;
+  const auto at_fitted_ranges = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+    return has_gross_errors ? Eigen::VectorXd(v(t.gross_errors.kept)) : v;
+  };
+  Eigen::VectorXd junction_c = at_fitted_ranges(t.junction.junction_c);
+  const Eigen::VectorXd y_minus_d = fit_data.range_mm - fit_data.true_range_mm;
 
   // Ranges rounded to whole millimetres carry the rounding's variance h²/12 (Sheppard) in every
   // mode: a mode narrower than that is the rounding's lattice, not a lasing mode, and left free
@@ -170,12 +182,12 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   if ((settings.basis && settings.modes) || too_few_to_choose) {
     // Given, or too few ranges to judge candidates on: the paper's structure (§8) for what was
     // not given.
-    basis = parse_basis(settings.basis.value_or(kPaperBasis), t.junction.junction_c);
+    basis = parse_basis(settings.basis.value_or(kPaperBasis), junction_c);
     em.modes = settings.modes.value_or(kPaperModes);
     t.structure_not_chosen = too_few_to_choose && !(settings.basis && settings.modes);
   } else {
     report(progress, kNoiseShare, "structure of Eq. 8");
-    t.structure = choose_structure(search_settings, t.junction.junction_c, y_minus_d, progress);
+    t.structure = choose_structure(search_settings, junction_c, y_minus_d, progress);
     basis = t.structure->basis;
     em.modes = t.structure->modes;
     structure_fit = core::EmStartingPoint{t.structure->fit.theta, t.structure->fit.mixture};
@@ -184,24 +196,26 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   // What the structure search fitted on: the case-log junction and its basis, kept in case the
   // final fit fails on the junction from the ranges (below).
   SmoothedJunction case_log_junction = t.junction;
+  const Eigen::VectorXd case_log_junction_c = junction_c;
   const core::Basis case_log_basis = basis;
   if (settings.junction_from_ranges && t.thermal.map && !too_few_to_choose) {
     report(progress, kSearchShare, "junction dynamics from the ranges");
     t.junction_dynamics =
-        complete_junction(data, settings, *t.thermal.map, noise, t.junction, basis, em,
+        complete_junction(fit_data, settings, *t.thermal.map, noise, junction_c, basis, em,
                           structure_fit);
     if (t.junction_dynamics->replaced) {
       t.thermal_parameters = with_junction_dynamics(t.thermal_parameters,
                                                     t.junction_dynamics->best.dynamics);
       t.junction = junction_at_ranges(data, t.thermal_parameters, noise,
                                       settings.thermal.ambient_fallback_c);
-      basis = basis_spanning(basis, t.junction.junction_c);
+      junction_c = at_fitted_ranges(t.junction.junction_c);
+      basis = basis_spanning(basis, junction_c);
     }
   }
 
   report(progress, kJunctionShare, "EM training");
   const auto final_fit = [&] {
-    const Eigen::MatrixXd h = basis.design_matrix(t.junction.junction_c);
+    const Eigen::MatrixXd h = basis.design_matrix(junction_c);
     // The final fit starts where the search's (looser) fit of the chosen candidate ended, unless
     // the paper's start (Eq. 20) or M-step (Eq. 19 as printed) is asked for, to reproduce them.
     // θ's coordinates change with the basis's rescaling when the junction was replaced: then θ
@@ -234,6 +248,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
     t.junction_dynamics->refused_by_final_fit = e.what();
     t.thermal_parameters = t.thermal.identified();
     t.junction = std::move(case_log_junction);
+    junction_c = case_log_junction_c;
     basis = case_log_basis;
     final_fit();
   }
@@ -245,8 +260,10 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   c.model.basis = basis;
   c.model.theta = t.em.theta;
   c.model.mixture = t.em.mixture;
-  c.model.trained_junction_c =
-      core::TemperatureRange{t.junction.junction_c.minCoeff(), t.junction.junction_c.maxCoeff()};
+  c.model.trained_junction_c = core::TemperatureRange{junction_c.minCoeff(), junction_c.maxCoeff()};
+  c.extension = gross_error_extension(
+      c.model.mixture, t.gross_errors.share(),
+      data.range_mm - data.true_range_mm - c.model.basis.design_matrix(t.junction.junction_c) * c.model.theta);
   c.provenance.data_set = data.source;
   c.provenance.created_utc = io::utc_now();
   c.provenance.software_version = std::string("tofcomp ") + io::kVersion;
@@ -257,6 +274,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   for (const std::string& dropped : t.final_fit_dropped_modes) {
     c.provenance.notes += "; the final fit dropped " + dropped;
   }
+  if (has_gross_errors) c.provenance.notes += "; " + gross_errors_note(t.gross_errors);
   c.choices = record_choices(t);
   report(progress, 1.0, "done");
   return t;

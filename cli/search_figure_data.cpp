@@ -37,7 +37,8 @@ struct FigureTerm {
 // named and did not keep.
 std::vector<FigureTerm> figure_terms(const calibration::ModelSearchResult& search) {
   std::vector<FigureTerm> out;
-  std::size_t kept = 0;
+  // The terms training's calibration brought have no step: the steps' kept terms follow them.
+  auto kept = static_cast<std::size_t>(search.carried_from_training);
   for (std::size_t s = 0; s < search.steps.size(); ++s) {
     const calibration::SearchStep& step = search.steps[s];
     const calibration::CandidateResult* named = step.named();

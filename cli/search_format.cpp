@@ -108,6 +108,7 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
           {"steps", steps},
           {"best", best ? label_json(best->term) : nlohmann::json(nullptr)},
           {"kept", kept},
+          {"kept_from_training", search.carried_from_training},
           {"mae_mm", {{"base", base}, {"final", final}}},
           {"mae_factor", factor},
           {"cramer_rao_mae_mm", bound},
@@ -134,6 +135,11 @@ std::string search_text(const calibration::ModelSearchResult& search,
   }
   text += search.kept.empty() ? "verdict: nothing kept: the paper's model explains the data\n"
                               : fmt::format("verdict: the model lacks {}\n", kept_names(search));
+  for (int i = 0; i < search.carried_from_training; ++i) {
+    text += fmt::format(
+        "  from training: {}: the gross errors' outlier component, in every model compared\n",
+        core::effect_name(search.kept[static_cast<std::size_t>(i)].label()));
+  }
   for (std::size_t i = 0; i < search.steps.size(); ++i) {
     const auto& s = search.steps[i];
     const calibration::CandidateResult* named = s.named();

@@ -95,7 +95,11 @@ nlohmann::json choices_json(const calibration::Training& training) {
            training.structure ? to_json(*training.structure) : nlohmann::json(nullptr)},
           {"junction_dynamics", training.junction_dynamics
                                     ? to_json(*training.junction_dynamics)
-                                    : nlohmann::json(nullptr)}};
+                                    : nlohmann::json(nullptr)},
+          {"gross_errors",
+           {{"ranges", training.gross_errors.count},
+            {"share", training.gross_errors.share()},
+            {"beyond_mm", calibration::kGrossErrorMm}}}};
 }
 
 std::string kalman_noise_text(const core::KalmanNoiseFit& fit) {
@@ -178,6 +182,9 @@ std::string choices_text(const calibration::Training& training) {
     out += "  trained with " + std::to_string(training.em.mixture.modes()) + " modes\n";
   }
   if (training.junction_dynamics) out += junction_dynamics_text(*training.junction_dynamics);
+  if (training.gross_errors.count > 0) {
+    out += "gross errors: " + calibration::gross_errors_note(training.gross_errors) + "\n";
+  }
   return out;
 }
 

@@ -1,0 +1,151 @@
+// Gross errors (calibration/gross_errors.hpp): spurious returns far beyond any lasing mode are
+// set apart before Eq. 8 is fitted and carried as the outlier component. Known by construction:
+// the ranges injected beyond the bound are exactly those set apart; training on a twin record
+// with a cluster of spurious returns a metre beyond the target keeps its lasing modes within
+// the device's scale and carries the injected share; the model search starts from that component
+// and lists it first; and a clean record is trained as before, with no extension.
+#include "calibration/gross_errors.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "calibration/model_search.hpp"
+#include "calibration/plausibility.hpp"
+#include "calibration/training.hpp"
+#include "io/datasheet_file.hpp"
+#include "sim/scenario_yaml.hpp"
+#include "tests/support/twin_measured_data.hpp"
+
+namespace tofcomp::calibration {
+namespace {
+
+const std::string kRoot = TOFCOMP_SOURCE_ROOT;
+constexpr double kDistanceMm = 3000.0;
+// The injected spurious returns: this share of the ranges, this far beyond the target, this wide.
+constexpr double kSpuriousShare = 0.02;
+constexpr double kSpuriousOffsetMm = 1200.0;
+constexpr double kSpuriousStdMm = 15.0;
+
+MeasuredData ranges_at(const std::vector<double>& errors_mm) {
+  MeasuredData d;
+  d.source = "synthetic";
+  const auto n = static_cast<Eigen::Index>(errors_mm.size());
+  d.range_time_s = Eigen::VectorXd::LinSpaced(n, 0.0, static_cast<double>(n - 1));
+  d.range_mm.resize(n);
+  d.true_range_mm = Eigen::VectorXd::Constant(n, kDistanceMm);
+  for (Eigen::Index k = 0; k < n; ++k) d.range_mm[k] = kDistanceMm + errors_mm[static_cast<std::size_t>(k)];
+  d.has_true_range.assign(errors_mm.size(), true);
+  d.range_line.assign(errors_mm.size(), 0);
+  return d;
+}
+
+TEST(GrossErrors, AreTheRangesBeyondTheLargestLasingError) {
+  ASSERT_DOUBLE_EQ(kGrossErrorMm, 80.0);  // 50 mm predicted error + 6 × 5 mm statistical error
+  const GrossErrors g = find_gross_errors(ranges_at({1.0, -3.0, 1200.0, 79.0, -80.5, 4.0, -12.0}));
+  EXPECT_EQ(g.count, 2);
+  EXPECT_EQ(g.ranges, 7);
+  EXPECT_EQ(g.kept, (std::vector<Eigen::Index>{0, 1, 3, 5, 6}));
+  EXPECT_NEAR(g.share(), 2.0 / 7.0, 1e-15);
+}
+
+TEST(GrossErrors, NoneWhenMostRangesMissTheReference) {
+  // A reference distance half a metre off: the distance is wrong, not the ranges.
+  const GrossErrors g = find_gross_errors(ranges_at({500.0, 502.0, 1.0, 498.0}));
+  EXPECT_EQ(g.count, 0);
+  EXPECT_EQ(g.kept.size(), 4u);
+}
+
+TEST(GrossErrors, ExtensionIsTheOutlierComponentOverTheResiduals) {
+  core::MixtureParameters modes;
+  modes.mean = Eigen::Vector2d(-2.0, 2.0);
+  modes.variance = Eigen::Vector2d(1.0, 1.5);
+  modes.weight = Eigen::Vector2d(0.4, 0.6);
+  EXPECT_FALSE(gross_error_extension(modes, 0.0, Eigen::Vector3d(-1.0, 0.0, 1.0)));
+  const auto e = gross_error_extension(modes, 0.03, Eigen::Vector3d(-10.0, 2.0, 1190.0));
+  ASSERT_TRUE(e);
+  ASSERT_EQ(e->effects.size(), 1u);
+  EXPECT_EQ(e->effects[0].parameter, core::Parameter::Outliers);
+  EXPECT_TRUE(e->mean_terms.empty());
+  EXPECT_DOUBLE_EQ(e->extended_mixture.outlier_weight, 0.03);
+  EXPECT_DOUBLE_EQ(e->extended_mixture.outlier_density, 1.0 / 1200.0);
+  EXPECT_EQ(e->extended_mixture.modes.mean, modes.mean);
+}
+
+// The paper's structure, fixed (as diagnose_test.cpp fixes it), so that the test is about the
+// gross errors and quick.
+TrainSettings fixed_structure() {
+  TrainSettings settings;
+  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.basis = "polynomial:4";
+  settings.modes = 2;
+  settings.kalman_noise = core::ThermalNoise{};
+  settings.junction_from_ranges = false;
+  return settings;
+}
+
+MeasuredData twin_record() {
+  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+  scenario.seed = 11;
+  return test::twin_measured_data(scenario);
+}
+
+// Replaces a share of the ranges, drawn at random, by spurious returns; returns how many.
+Eigen::Index inject_spurious_returns(MeasuredData& data, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> spread(kSpuriousOffsetMm, kSpuriousStdMm);
+  Eigen::Index injected = 0;
+  for (Eigen::Index k = 0; k < data.range_mm.size(); ++k) {
+    if (unit(rng) < kSpuriousShare) {
+      data.range_mm[k] = std::round(data.true_range_mm[k] + spread(rng));
+      ++injected;
+    }
+  }
+  return injected;
+}
+
+TEST(GrossErrors, TrainingKeepsTheLasingModesAndCarriesTheShare) {
+  MeasuredData data = twin_record();
+  const Training clean = train_calibration(data, fixed_structure());
+  EXPECT_EQ(clean.gross_errors.count, 0);
+  EXPECT_FALSE(clean.calibration.extension);
+
+  const Eigen::Index injected = inject_spurious_returns(data, 5);
+  ASSERT_GT(injected, 100);
+  const Training t = train_calibration(data, fixed_structure());
+  EXPECT_EQ(t.gross_errors.count, injected);
+  EXPECT_EQ(t.junction.junction_c.size(), data.range_mm.size());  // every range, as callers need
+  EXPECT_TRUE(implausibilities(t.calibration).empty()) << implausibilities(t.calibration).front();
+  for (Eigen::Index i = 0; i < t.calibration.model.mixture.modes(); ++i) {
+    // The lasing modes as trained without the spurious returns (they change by the few lasing
+    // ranges the injection replaced).
+    EXPECT_NEAR(t.calibration.model.mixture.mean[i], clean.calibration.model.mixture.mean[i], 0.1);
+  }
+  ASSERT_TRUE(t.calibration.extension);
+  EXPECT_NEAR(t.calibration.extension->extended_mixture.outlier_weight,
+              static_cast<double>(injected) / static_cast<double>(data.range_mm.size()), 1e-12);
+}
+
+TEST(GrossErrors, TheModelSearchStartsFromTheOutlierComponent) {
+  MeasuredData data = twin_record();
+  inject_spurious_returns(data, 6);
+  const Training t = train_calibration(data, fixed_structure());
+  ModelSearchOptions options;
+  options.max_steps = 1;
+  const ModelSearchResult r = search_model(data, t.calibration, t.junction, options);
+  EXPECT_EQ(r.carried_from_training, 1);
+  ASSERT_FALSE(r.kept.empty());
+  EXPECT_EQ(r.kept.front().parameter, core::Parameter::Outliers);
+  ASSERT_TRUE(r.calibration.extension);
+  EXPECT_GT(r.calibration.extension->extended_mixture.outlier_weight, 0.0);
+  // No step named the outliers again: the component was in every model compared.
+  for (const SearchStep& s : r.steps) {
+    for (const CandidateResult& c : s.candidates) {
+      EXPECT_NE(c.term.parameter, core::Parameter::Outliers);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tofcomp::calibration
