@@ -42,9 +42,16 @@ GrossErrors find_gross_errors(const MeasuredData& data);
 // "N ranges (x %) ... fitted apart": what training says of them.
 std::string gross_errors_note(const GrossErrors& gross);
 
-// The extension that carries the gross errors: the outlier component with weight `share`,
-// uniform over the span of the residuals y − d − H(t)θ (at least 1 mm), the modes as trained.
-// None when share is 0.
+// The outlier weight ε of `start` (its modes and outlier density held) by EM on the residuals:
+// ε ← the mean of P(outlier | e_k) to its fixed point, from start.outlier_weight, never below it.
+// The gross errors' share is where it starts: ranges of the spurious process that fall within
+// 80 mm, among the lasing modes' ranges, raise it.
+double fit_outlier_weight(const Eigen::Ref<const Eigen::VectorXd>& residual_mm,
+                          const core::ExtendedMixture& start);
+
+// The extension that carries the gross errors: the outlier component uniform over the span of the
+// residuals y − d − H(t)θ of every range (at least 1 mm), its weight fitted from `share` on them
+// (fit_outlier_weight), the modes as trained on the other ranges. None when share is 0.
 std::optional<core::ModelExtension> gross_error_extension(
     const core::MixtureParameters& modes, double share,
     const Eigen::Ref<const Eigen::VectorXd>& residual_mm);

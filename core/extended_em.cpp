@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "core/covariate_table.hpp"
 #include "core/error.hpp"
@@ -22,6 +23,11 @@ constexpr double kMaximumOutlierWeight = 0.5;
 // Newton's method on a parametric noise term's intercepts and slopes (a few parameters on the
 // levels' sufficient statistics): at most this many steps, each halved at most this often, and
 // stopped when no coordinate moves more than the tolerance.
+// EM testing's cold start under an outlier component: the window's mean over the ranges within
+// the modes' reach of its median (the span of the offsets plus this many of the widest mode's
+// standard deviations either side). A spurious return a metre out moves a 200-range mean by 5 mm,
+// enough to start EM at a fixed point that takes a narrow mode for outliers.
+constexpr double kStartReachDeviations = 6.0;
 constexpr int kSlopeNewtonSteps = 25;
 constexpr int kSlopeHalvings = 30;
 constexpr double kSlopeTolerance = 1e-10;
@@ -358,6 +364,24 @@ struct Point {
   double log_likelihood = 0.0;
 };
 
+// The cold start of EM testing: mean(x) − Σ π_i μ_i, and under an outlier component the mean of
+// the ranges within the modes' reach of the median (kStartReachDeviations).
+double cold_start_distance(const Eigen::VectorXd& x, const ExtendedMixture& model) {
+  if (!(model.outlier_weight > 0.0) || x.size() == 0) return x.mean() - model.modes.mean_offset();
+  std::vector<double> sorted(x.data(), x.data() + x.size());
+  const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+  std::nth_element(sorted.begin(), middle, sorted.end());
+  const double median = *middle;
+  const double reach = model.modes.mean.maxCoeff() - model.modes.mean.minCoeff() +
+                       2.0 * kStartReachDeviations * std::sqrt(model.modes.variance.maxCoeff());
+  double sum = 0.0;
+  Eigen::Index count = 0;
+  for (const double v : x) {
+    if (std::abs(v - median) <= reach) sum += v, ++count;
+  }
+  return sum / static_cast<double>(count) - model.modes.mean_offset();  // the median is counted
+}
+
 }  // namespace
 
 Eigen::MatrixXd mode_shifts(const ExtendedDesign& design,
@@ -498,7 +522,7 @@ EmTestResult test_extended_em(const Eigen::Ref<const Eigen::VectorXd>& y,
   const bool shifted = shift.size() > 0;
   ExtendedResponsibilities r;
   EmTestResult result;
-  double d = initial_distance ? *initial_distance : x.mean() - model.modes.mean_offset();
+  double d = initial_distance ? *initial_distance : cold_start_distance(x, model);
   d = iterate_distance(
       d, options, result,
       [&](double at) { return extended_e_step(x.array() - at, state, shift, model, r); },
