@@ -652,6 +652,15 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
 
   // The kept terms fitted on all the data, in the order the search added them.
   FoldModel all{base_spec, base_fit};
+  if (carried) {
+    // The carried component was fitted with the modes held (its weight alone); here every
+    // parameter with it, as each fold's held model was, and as a kept term is.
+    const core::ExtendedDesign design =
+        design_of(base_spec, search_data, calibration.model.mixture.modes(), {});
+    all.fit = core::train_extended_em(design, search_data.y(), base_fit,
+                                      em_options(floor, kFitIterations))
+                  .fit;
+  }
   for (const SearchStep& s : result.steps) {
     if (!s.kept) continue;
     Fitted f = fitter.fit(all, s.named()->term, {});
