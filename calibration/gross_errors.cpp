@@ -49,8 +49,8 @@ GrossErrors find_gross_errors(const MeasuredData& data) {
 
 std::string gross_errors_note(const GrossErrors& gross) {
   return fmt::format(
-      "{} of {} ranges ({:.2f} %) more than {:g} mm from the true distance, beyond any lasing "
-      "mode: gross errors, left out of Eq. 8's fit and carried as an outlier component",
+      "{} of {} ranges ({:.2f} %) are gross errors, more than {:g} mm from the true distance "
+      "(beyond any lasing mode): left out of Eq. 8's fit and carried as an outlier component",
       gross.count, gross.ranges, 100.0 * gross.share(), kGrossErrorMm);
 }
 

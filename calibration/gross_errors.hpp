@@ -4,8 +4,8 @@
 // target, fitted as one more "mode", would be a mode no laser has (the plausibility gate of
 // calibration/plausibility.hpp refuses a mode beyond ±50 mm) and, fitted by the paper's modes
 // alone, drags them metres. Training fits Eq. 8 on the other ranges and carries the gross
-// errors' share as the outlier component of the extended mixture (core/extended_mixture.hpp),
-// so that compensation weighs such a range as it weighs any outlier.
+// errors as the outlier component of the extended mixture (core/extended_mixture.hpp), its
+// weight fitted from their share, so that compensation weighs such a range as any outlier.
 #pragma once
 
 #include <Eigen/Core>
@@ -39,7 +39,7 @@ struct GrossErrors {
 // ranges. Throws core::InvalidInput when a range has no true distance.
 GrossErrors find_gross_errors(const MeasuredData& data);
 
-// "N ranges (x %) ... fitted apart": what training says of them.
+// "N of K ranges (x %) are gross errors, ...": what training says of them.
 std::string gross_errors_note(const GrossErrors& gross);
 
 // The outlier weight ε of `start` (its modes and outlier density held) by EM on the residuals:

@@ -183,7 +183,7 @@ std::string choices_text(const calibration::Training& training) {
   }
   if (training.junction_dynamics) out += junction_dynamics_text(*training.junction_dynamics);
   if (training.gross_errors.count > 0) {
-    out += "gross errors: " + calibration::gross_errors_note(training.gross_errors) + "\n";
+    out += calibration::gross_errors_note(training.gross_errors) + "\n";
   }
   return out;
 }
