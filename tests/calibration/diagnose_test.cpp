@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "tests/support/paper_structure_settings.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
@@ -28,15 +29,7 @@ const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 // the thermal fit's: taken from the ranges (calibration/junction_dynamics.hpp), a slower junction
 // takes in heating hysteresis (a junction that lags by τ more reads as a bias on the heating
 // rate, t^j(t − τ) ≈ t^j − τ dt^j/dt).
-TrainSettings datasheet_settings() {
-  TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
-  settings.basis = "polynomial:4";
-  settings.modes = 2;
-  settings.kalman_noise = core::ThermalNoise{};
-  settings.junction_from_ranges = false;
-  return settings;
-}
+TrainSettings datasheet_settings() { return test::paper_structure_settings(); }
 
 core::Diagnosis diagnose_data(const MeasuredData& data) {
   return diagnose(data, train_calibration(data, datasheet_settings()).calibration);

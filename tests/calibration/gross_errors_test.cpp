@@ -15,8 +15,9 @@
 #include "calibration/plausibility.hpp"
 #include "calibration/training.hpp"
 #include "core/extended_mixture.hpp"
-#include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "tests/support/paper_structure_settings.hpp"
+#include "tests/support/synthetic_measurements.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
@@ -58,13 +59,7 @@ TEST(GrossErrors, NoneWhenMostRangesMissTheReference) {
   EXPECT_EQ(g.kept.size(), 4u);
 }
 
-core::MixtureParameters two_modes() {
-  core::MixtureParameters modes;
-  modes.mean = Eigen::Vector2d(-2.0, 2.0);
-  modes.variance = Eigen::Vector2d(1.0, 2.25);
-  modes.weight = Eigen::Vector2d(0.4, 0.6);
-  return modes;
-}
+core::MixtureParameters two_modes() { return testing::mixture({-2.0, 2.0}, {1.0, 1.5}, {0.4, 0.6}); }
 
 TEST(GrossErrors, ExtensionIsTheOutlierComponentOverTheResiduals) {
   const core::MixtureParameters modes = two_modes();
@@ -115,17 +110,8 @@ TEST(GrossErrors, TheOutlierWeightTakesInTheOutliersAmongTheModes) {
   EXPECT_NEAR(fitted, truth, 0.1 * truth);
 }
 
-// The paper's structure, fixed (as diagnose_test.cpp fixes it), so that the test is about the
-// gross errors and quick.
-TrainSettings fixed_structure() {
-  TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
-  settings.basis = "polynomial:4";
-  settings.modes = 2;
-  settings.kalman_noise = core::ThermalNoise{};
-  settings.junction_from_ranges = false;
-  return settings;
-}
+// The paper's structure, fixed, so that the test is about the gross errors and quick.
+TrainSettings fixed_structure() { return test::paper_structure_settings(); }
 
 MeasuredData twin_record() {
   sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
