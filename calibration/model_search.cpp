@@ -524,17 +524,19 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     result.kept.push_back(*carried);
     result.carried_from_training = 1;
   }
+  // The training's model fitted to convergence on `rows` (all when empty).
+  const auto fit_base = [&](const std::vector<Eigen::Index>& rows) {
+    const core::ExtendedDesign design =
+        design_of(base_spec, search_data, calibration.model.mixture.modes(), rows);
+    const Eigen::VectorXd y = rows.empty() ? search_data.y() : Eigen::VectorXd(search_data.y()(rows));
+    return FoldModel{base_spec,
+                     core::train_extended_em(design, y, base_fit, em_options(floor, kFitIterations)).fit};
+  };
   std::array<FoldModel, kFolds> held;
   Eigen::VectorXd held_scores = Eigen::VectorXd::Zero(search_data.size());
   // The folds at once: each writes its own model and its own held-out rows' scores.
   parallel_for(kFolds, threads, [&](int f) {
-    const auto& rows = folds.training(f);
-    const core::ExtendedDesign design =
-        design_of(base_spec, search_data, calibration.model.mixture.modes(), rows);
-    held[static_cast<std::size_t>(f)] = {
-        base_spec, core::train_extended_em(design, search_data.y()(rows), base_fit,
-                                             em_options(floor, kFitIterations))
-                         .fit};
+    held[static_cast<std::size_t>(f)] = fit_base(folds.training(f));
     score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
                    options.resolution, held_scores);
   });
@@ -651,16 +653,9 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   }
 
   // The kept terms fitted on all the data, in the order the search added them.
-  FoldModel all{base_spec, base_fit};
-  if (carried) {
-    // The carried component was fitted with the modes held (its weight alone); here every
-    // parameter with it, as each fold's held model was, and as a kept term is.
-    const core::ExtendedDesign design =
-        design_of(base_spec, search_data, calibration.model.mixture.modes(), {});
-    all.fit = core::train_extended_em(design, search_data.y(), base_fit,
-                                      em_options(floor, kFitIterations))
-                  .fit;
-  }
+  // A carried component was fitted with the modes held (its weight alone); here every parameter
+  // with it, as each fold's held model was, and as a kept term is.
+  FoldModel all = carried ? fit_base({}) : FoldModel{base_spec, base_fit};
   for (const SearchStep& s : result.steps) {
     if (!s.kept) continue;
     Fitted f = fitter.fit(all, s.named()->term, {});

@@ -261,9 +261,11 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   c.model.theta = t.em.theta;
   c.model.mixture = t.em.mixture;
   c.model.trained_junction_c = core::TemperatureRange{junction_c.minCoeff(), junction_c.maxCoeff()};
-  c.extension = gross_error_extension(
-      c.model.mixture, t.gross_errors.share(),
-      data.range_mm - data.true_range_mm - c.model.basis.design_matrix(t.junction.junction_c) * c.model.theta);
+  if (has_gross_errors) {
+    const Eigen::VectorXd residual_mm = data.range_mm - data.true_range_mm -
+                                        basis.design_matrix(t.junction.junction_c) * c.model.theta;
+    c.extension = gross_error_extension(c.model.mixture, t.gross_errors.share(), residual_mm);
+  }
   c.provenance.data_set = data.source;
   c.provenance.created_utc = io::utc_now();
   c.provenance.software_version = std::string("tofcomp ") + io::kVersion;

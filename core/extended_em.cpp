@@ -23,14 +23,14 @@ constexpr double kMaximumOutlierWeight = 0.5;
 // Newton's method on a parametric noise term's intercepts and slopes (a few parameters on the
 // levels' sufficient statistics): at most this many steps, each halved at most this often, and
 // stopped when no coordinate moves more than the tolerance.
+constexpr int kSlopeNewtonSteps = 25;
+constexpr int kSlopeHalvings = 30;
+constexpr double kSlopeTolerance = 1e-10;
 // EM testing's cold start under an outlier component: the window's mean over the ranges within
 // the modes' reach of its median (the span of the offsets plus this many of the widest mode's
 // standard deviations either side). A spurious return a metre out moves a 200-range mean by 5 mm,
 // enough to start EM at a fixed point that takes a narrow mode for outliers.
 constexpr double kStartReachDeviations = 6.0;
-constexpr int kSlopeNewtonSteps = 25;
-constexpr int kSlopeHalvings = 30;
-constexpr double kSlopeTolerance = 1e-10;
 
 // w_ki = r_ki / σ²_{s(k),i}: the weights of the mean-structure and d steps; per mode a column
 // product, with each range's spread bin gathered only when the spreads are binned.
