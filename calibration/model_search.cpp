@@ -18,6 +18,7 @@
 #include "core/cramer_rao.hpp"
 #include "core/error.hpp"
 #include "core/estimators.hpp"
+#include "core/sign_flip_max_t.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -297,7 +298,15 @@ void score_held_out(const SearchData& data, const FoldModel& model,
   scores(held_out) = s;
 }
 
+// P(T ≥ t) for Student's T with runs − 1 degrees of freedom.
+double one_sided_p(double t, double runs) {
+  if (std::isinf(t)) return t > 0.0 ? 0.0 : 1.0;
+  const boost::math::students_t student(runs - 1.0);
+  return boost::math::cdf(boost::math::complement(student, t));
+}
+
 struct BlockTest {
+  Eigen::VectorXd run_gains;  // the gains summed over each run of consecutive scored ranges
   double gain = 0.0;
   double t = 0.0;
   double p = 1.0;
@@ -314,22 +323,20 @@ BlockTest block_test(const Eigen::VectorXd& gain, const Folds& folds) {
     runs.back() += gain[k];
     in_run = (in_run + 1) % run;
   }
-  const Eigen::Map<const Eigen::VectorXd> per_block(runs.data(),
-                                                    static_cast<Eigen::Index>(runs.size()));
-  if (per_block.size() < 2) return {};
   BlockTest out;
-  out.gain = per_block.sum();
-  const double n = static_cast<double>(per_block.size());
+  out.run_gains = Eigen::Map<const Eigen::VectorXd>(runs.data(), static_cast<Eigen::Index>(runs.size()));
+  if (out.run_gains.size() < 2) return out;
+  out.gain = out.run_gains.sum();
+  const double n = static_cast<double>(out.run_gains.size());
   const double mean = out.gain / n;
-  const double variance = (per_block.array() - mean).square().sum() / (n - 1.0);
+  const double variance = (out.run_gains.array() - mean).square().sum() / (n - 1.0);
   if (!(variance > 0.0)) {
     out.t = mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
     out.p = mean > 0.0 ? 0.0 : 1.0;
     return out;
   }
-  out.t = mean / std::sqrt(variance / n);
-  const boost::math::students_t student(n - 1.0);
-  out.p = boost::math::cdf(boost::math::complement(student, out.t));
+  out.t = core::SignFlipMaxT::t_statistic(out.run_gains);
+  out.p = one_sided_p(out.t, n);
   return out;
 }
 
@@ -555,6 +562,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     s.candidates.resize(candidates.size());
     std::vector<std::array<FoldModel, kFolds>> fits(candidates.size());
     std::vector<std::array<Screened, kFolds>> screens(candidates.size());
+    std::vector<Eigen::VectorXd> run_gains(candidates.size());  // per candidate, as last judged
     // A candidate fitted on each fold (by fit_on(fold)) and scored on the other: its result.
     const auto judge = [&](std::size_t c, const std::function<Fitted(int)>& fit_on) {
       CandidateResult& r = s.candidates[c];
@@ -567,7 +575,8 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
                          scores);
           fits[c][static_cast<std::size_t>(f)] = std::move(fitted.model);
         }
-        const BlockTest test = block_test(scores - held_scores, folds);
+        BlockTest test = block_test(scores - held_scores, folds);
+        run_gains[c] = std::move(test.run_gains);
         r.held_out_gain = test.gain;
         r.gain_per_range = test.gain / static_cast<double>(search_data.size());
         r.t_statistic = test.t;
@@ -629,15 +638,30 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     const auto fitted_count = std::count_if(s.candidates.begin(), s.candidates.end(),
                                             [](const CandidateResult& r) { return r.ok(); });
     result.candidates_per_step = std::max(result.candidates_per_step, static_cast<int>(fitted_count));
-    s.critical_p = options.alpha / static_cast<double>(std::max<std::ptrdiff_t>(fitted_count, 1));
     const CandidateResult* named = s.named();
     if (named) {
+      // The family-wise level (model_search.hpp): the null law of the largest t over every
+      // candidate of the step, those fitted to convergence by their final gains, the others by
+      // their screen's.
+      const Eigen::Index runs = run_gains[order.front()].size();
+      std::vector<std::size_t> judged;
+      for (const std::size_t c : order) {
+        if (run_gains[c].size() == runs) judged.push_back(c);
+      }
+      Eigen::MatrixXd gains(runs, static_cast<Eigen::Index>(judged.size()));
+      for (std::size_t j = 0; j < judged.size(); ++j) {
+        gains.col(static_cast<Eigen::Index>(j)) = run_gains[judged[j]];
+      }
+      const core::SignFlipMaxT max_t(gains);
+      s.critical_t = max_t.critical_t(options.alpha);
+      s.critical_p = one_sided_p(s.critical_t, static_cast<double>(runs));
+      s.family_wise_p = max_t.adjusted_p(named->t_statistic);
       const std::array<FoldModel, kFolds>& best = fits[order.front()];
       const WindowErrors best_errors =
           window_errors_of(search_data, best, folds, options, threads);
       s.errors = compare_held_out(held_errors, best_errors, best[0].fit.model.modes, folds,
                                   options);
-      s.kept = named->held_out_gain > 0.0 && named->p_value <= s.critical_p;
+      s.kept = named->held_out_gain > 0.0 && named->t_statistic > s.critical_t;
       if (s.kept) {
         held = best;
         held_errors = best_errors;

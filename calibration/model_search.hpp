@@ -15,10 +15,14 @@
 // temperatures, blocks are independent under the held model, so the blocks' gains are a sample:
 // with n blocks, t = mean / (sd / √n) is Student's t with n − 1 degrees of freedom when the
 // candidate adds nothing, and a candidate fitted on other data that adds nothing cannot gain on
-// average (its extra parameters only cost). The named candidate is kept when its one-sided p-value
-// is at most α / m, m the candidates fitted in the step (Bonferroni): the chance that data with
-// nothing missing keep anything at all is at most α. Then the search goes on from the model with
-// it (forward selection), until nothing more passes or max_steps terms are held.
+// average (its extra parameters only cost). The named candidate is kept when its t exceeds the
+// point that the largest t of the step's candidates passes by chance with probability α: the max-T
+// method, its null law drawn by flipping the signs of the same runs for every candidate
+// (core/sign_flip_max_t.hpp). The chance that data with nothing missing keep anything at all is
+// then at most α, and candidates that gain on the same ranges (one covariate in several forms,
+// one term on each mode) count about once, where α / m (Bonferroni) counted each. Then the search
+// goes on from the model with it (forward selection), until nothing more passes or max_steps
+// terms are held.
 //
 // A screen, then fits to convergence. Every candidate first gets a short fit on each fold (a
 // few EM iterations from the held model) and is scored on the other fold as above; only the few
@@ -28,8 +32,10 @@
 // solves the new mean term exactly given the responsibilities (and a spread's or weights' slope
 // by a Newton step), so a term the data support shows most of its gain there; what the rest of
 // the iterations add is the slow exchange between the modes, which every candidate shares. The
-// false-alarm level is unchanged: the Bonferroni count m is every candidate screened, and a
-// screened candidate is kept only after its fit to convergence passes α / m.
+// max-T law takes every candidate of the step, the screened ones by their short fits' gains
+// (standing in for the fits to convergence they did not get: those rank them, and a gain's
+// dependence on the others comes from the ranges it is made on); only a candidate fitted to
+// convergence can be named and kept.
 //
 // The terms' time constants (a decay's τ, the junction lag's τ) are profiled on the fold's own
 // training ranges: a few EM iterations at each τ of a grid (the screen), then, for a candidate
@@ -92,7 +98,12 @@ struct HeldOutError {
 struct SearchStep {
   // Ranked: those fitted to convergence by held-out gain, then the screened ones, failed last.
   std::vector<CandidateResult> candidates;
-  double critical_p = 0.0;                  // α / (candidates fitted)
+  // The family-wise threshold: the named candidate is kept when its t exceeds critical_t (the
+  // max-T law's 1 − α point); critical_p is that t's one-sided Student p, for reading beside
+  // each candidate's p_value; family_wise_p the named candidate's adjusted p under the law.
+  double critical_t = 0.0;
+  double critical_p = 0.0;
+  double family_wise_p = 1.0;
   bool kept = false;
   std::vector<HeldOutError> errors;  // of the named (first) candidate
   const CandidateResult* named() const {

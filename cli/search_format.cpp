@@ -79,7 +79,9 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
     nlohmann::json candidates = nlohmann::json::array();
     for (const auto& c : s.candidates) candidates.push_back(candidate_json(c));
     steps.push_back({{"kept", s.kept},
+                     {"critical_t", s.critical_t},
                      {"critical_p", s.critical_p},
+                     {"family_wise_p", s.family_wise_p},
                      {"candidates", candidates},
                      {"errors", errors_json(s.errors)}});
   }
@@ -120,7 +122,7 @@ std::string search_text(const calibration::ModelSearchResult& search,
   std::string text = fmt::format(
       "model search: {} candidates of the grammar per step, each fitted on one of two folds "
       "({} blocks of {} ranges) and scored on the other, {}; kept at {:g} family-wise "
-      "(Bonferroni)\n",
+      "(max-T: the largest t of the step's candidates under sign flips of the same runs)\n",
       search.candidates_per_step, search.blocks, search.block,
       options.refined_candidates > 0
           ? fmt::format("screened by short fits, the best {} fitted to convergence",
@@ -148,11 +150,11 @@ std::string search_text(const calibration::ModelSearchResult& search,
       continue;
     }
     text += fmt::format(
-        "  step {}: named {} ({}): held-out gain {:.1f} nats ({:.2e} per range), t {:.2f}, "
-        "p {:.2g} {} {:.2g}: {}\n",
+        "  step {}: named {} ({}): held-out gain {:.1f} nats ({:.2e} per range), t {:.2f} "
+        "(p {:.2g}) {} {:.2f}, family-wise p {:.2g}: {}\n",
         i + 1, core::effect_name(named->term.label()), named->term.describe(),
         named->held_out_gain, named->gain_per_range, named->t_statistic, named->p_value,
-        s.kept ? "<=" : ">", s.critical_p, s.kept ? "kept" : "not kept");
+        s.kept ? ">" : "<=", s.critical_t, s.family_wise_p, s.kept ? "kept" : "not kept");
     text += errors_text(s.errors);
   }
   if (!search.errors.empty()) {

@@ -10,8 +10,8 @@
 
 namespace tofcomp::cli {
 
-// {alpha, block, blocks, candidates_per_step, steps: [{kept, critical_p, candidates: [...],
-//  errors: [...]}], best: {effect, parameter, covariate, form, term} | null, kept: [...],
+// {alpha, block, blocks, candidates_per_step, steps: [{kept, critical_t, critical_p,
+//  family_wise_p, candidates: [...], errors: [...]}], best: {effect, parameter, covariate, form, term} | null, kept: [...],
 //  mae_mm: {base: {window: mm}, final: {...}}, mae_factor: {window: base / final},
 //  cramer_rao_mae_mm: {window: mm}, mae_over_cramer_rao: {base: {window: ratio}, final: {...}}}:
 //  base is the trained model, final the model with the kept terms, both on held-out windows

@@ -13,7 +13,7 @@ CANDIDATES_SHOWN = 5  # per step, in the table of candidates
 
 
 def _alpha_text(search):
-    return f"α = {number(search.get('alpha'), 'g')} family-wise, Bonferroni over the candidates"
+    return f"α = {number(search.get('alpha'), 'g')} family-wise, max-T over the step's candidates (sign flips of the runs)"
 
 
 def _windows(search):
@@ -92,7 +92,7 @@ def search_section(diagnosis):
              f"the step's level ({escape(_alpha_text(search))}). Forward selection: each kept "
              f"term is held while the next step searches.</p>"]
     head = ("<tr><th>step</th><th class=\"text\">named</th><th class=\"text\">term</th>"
-            "<th>gain per range</th><th>t</th><th>p-value</th><th>level α/m</th>"
+            "<th>gain per range</th><th>t</th><th>p-value</th><th>level (max-T)</th>"
             "<th class=\"text\">verdict</th><th class=\"text\">MAE factor by window</th></tr>")
     rows = [f'<table id="search-steps">{head}']
     for i, step in enumerate(search.get("steps") or []):
