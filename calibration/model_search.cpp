@@ -327,15 +327,8 @@ BlockTest block_test(const Eigen::VectorXd& gain, const Folds& folds) {
   out.run_gains = Eigen::Map<const Eigen::VectorXd>(runs.data(), static_cast<Eigen::Index>(runs.size()));
   if (out.run_gains.size() < 2) return out;
   out.gain = out.run_gains.sum();
-  const double n = static_cast<double>(out.run_gains.size());
-  const double mean = out.gain / n;
-  const double variance = (out.run_gains.array() - mean).square().sum() / (n - 1.0);
-  if (!(variance > 0.0)) {
-    out.t = mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
-    out.p = mean > 0.0 ? 0.0 : 1.0;
-    return out;
-  }
   out.t = core::SignFlipMaxT::t_statistic(out.run_gains);
+  const double n = static_cast<double>(out.run_gains.size());
   out.p = one_sided_p(out.t, n);
   return out;
 }

@@ -34,7 +34,7 @@ double SignFlipMaxT::t_statistic(const Eigen::Ref<const Eigen::VectorXd>& values
   if (n < 2.0) return 0.0;
   const double mean = values.mean();
   const double variance = (values.array() - mean).square().sum() / (n - 1.0);
-  if (!(variance > 0.0)) return 0.0;
+  if (!(variance > 0.0)) return mean > 0.0 ? kInfinity : 0.0;
   return mean / std::sqrt(variance / n);
 }
 
@@ -52,8 +52,8 @@ SignFlipMaxT::SignFlipMaxT(const Eigen::Ref<const Eigen::MatrixXd>& block_values
   }
   maxima_.assign(static_cast<std::size_t>(draws), kInfinity);
   if (varying.empty()) return;  // nothing can be kept: every adjusted p is 1
-  const Eigen::MatrixXd centred =
-      block_values(Eigen::all, varying).rowwise() - block_values(Eigen::all, varying).colwise().mean();
+  const Eigen::MatrixXd kept = block_values(Eigen::all, varying);
+  const Eigen::MatrixXd centred = kept.rowwise() - kept.colwise().mean();
   const Eigen::RowVectorXd squares = centred.colwise().squaredNorm();
   const auto blocks = static_cast<double>(n);
 

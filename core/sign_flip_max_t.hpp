@@ -38,7 +38,8 @@ class SignFlipMaxT {
   double critical_t(double alpha) const;
   int draws() const { return static_cast<int>(maxima_.size()); }
 
-  // The one-sided t statistic of one column of block values (0 when it does not vary).
+  // The one-sided t statistic of one column of block values; one that does not vary: +∞ when
+  // positive (every block gains), else 0.
   static double t_statistic(const Eigen::Ref<const Eigen::VectorXd>& values);
 
   // Enough draws that an adjusted p of 0.05 is known to ±0.0022 (one standard error).
