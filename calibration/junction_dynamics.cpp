@@ -60,14 +60,29 @@ std::pair<double, double> one_sided_t_test(const Eigen::VectorXd& gain) {
   return {t, boost::math::cdf(boost::math::complement(student, t))};
 }
 
+// The one-sided t-test that `point`'s ranges gain over `reference`'s, over the same blocks:
+// (t, p); (0, 1) when `point` has no fit.
+std::pair<double, double> block_gain_test(const JunctionDynamicsPoint& point,
+                                          const JunctionDynamicsPoint& reference) {
+  if (point.block_log_likelihood.size() != reference.block_log_likelihood.size()) return {0.0, 1.0};
+  return one_sided_t_test(point.block_log_likelihood - reference.block_log_likelihood);
+}
+
 // Evaluates points of the search, each EM fit warm-started from the last successful one.
 class Evaluator {
  public:
   Evaluator(const JunctionDynamicsProblem& problem, const JunctionDynamicsOptions& options,
             const JunctionDynamicsProgress& progress)
-      : problem_(problem), options_(options), progress_(progress), warm_(problem.start) {
+      : problem_(problem),
+        options_(options),
+        progress_(progress),
+        noise_(problem.kalman_noise),
+        warm_(problem.start) {
     y_minus_d_ = problem.data.range_mm - problem.data.true_range_mm;
   }
+
+  // The filter's levels of the points evaluated from now on.
+  void use_noise(const core::ThermalNoise& noise) { noise_ = noise; }
 
   // The point at x; throws when `required` and its fit fails, else scores a failure −∞.
   JunctionDynamicsPoint evaluate(const LogDynamics& x, bool required, JunctionDynamicsFit& fit) {
@@ -77,8 +92,8 @@ class Evaluator {
         with_junction_dynamics(problem_.case_fit.parameters, point.dynamics);
     point.prior_cost = prior_cost(parameters);
     try {
-      const SmoothedJunction junction = junction_at_ranges(
-          problem_.data, parameters, problem_.kalman_noise, problem_.ambient_fallback_c);
+      const SmoothedJunction junction = junction_at_ranges(problem_.data, parameters, noise_,
+                                                           problem_.ambient_fallback_c);
       const Eigen::MatrixXd h =
           basis_spanning(problem_.basis, junction.junction_c).design_matrix(junction.junction_c);
       core::EmTrainOptions em = options_.em;
@@ -118,6 +133,7 @@ class Evaluator {
   const JunctionDynamicsProblem& problem_;
   const JunctionDynamicsOptions& options_;
   const JunctionDynamicsProgress& progress_;
+  core::ThermalNoise noise_;
   core::EmStartingPoint warm_;
   Eigen::VectorXd y_minus_d_;
 };
@@ -231,9 +247,26 @@ JunctionDynamicsFit fit_junction_dynamics(const JunctionDynamicsProblem& problem
   options.validate();
   JunctionDynamicsFit fit;
   fit.datasheet = junction_dynamics_of(problem.case_fit.prior);
+  fit.case_log_noise = problem.kalman_noise;
+  fit.held_junction_noise = problem.held_junction_noise;
   Evaluator evaluator(problem, options, progress);
   const LogDynamics start = log_of(junction_dynamics_of(problem.case_fit.parameters));
   fit.start = evaluator.evaluate(start, true, fit);
+  // Where the search starts: the case-log fit's junction, or the same dynamics with q_j held at
+  // its start when the ranges reject the case log's q_j (the header).
+  JunctionDynamicsPoint search_start = fit.start;
+  if (problem.held_junction_noise) {
+    evaluator.use_noise(*problem.held_junction_noise);
+    const JunctionDynamicsPoint held = evaluator.evaluate(start, false, fit);
+    std::tie(fit.noise_block_t, fit.noise_block_p) = block_gain_test(held, fit.start);
+    fit.junction_noise_held = fit.noise_block_p < options.rejection_level;
+    if (fit.junction_noise_held) {
+      search_start = held;
+    } else {
+      evaluator.use_noise(problem.kalman_noise);
+    }
+    fit.held_junction_noise_start = held;
+  }
 
   // The box around the datasheet, widened to hold the start. A product of two parameters with
   // independent log-normal priors has √2 times their log standard deviation.
@@ -249,7 +282,7 @@ JunctionDynamicsFit fit_junction_dynamics(const JunctionDynamicsProblem& problem
                                 low(centre.log_time_constant, start.log_time_constant));
   const Eigen::Vector2d box_high(high(centre.log_rise, start.log_rise),
                                  high(centre.log_time_constant, start.log_time_constant));
-  fit.best = fit.start;
+  fit.best = search_start;
   const auto negative_posterior = [&](const Eigen::Vector2d& v) {
     const Eigen::Vector2d x = v.cwiseMax(box_low).cwiseMin(box_high);
     const JunctionDynamicsPoint p = evaluator.evaluate({x[0], x[1]}, false, fit);
@@ -258,11 +291,8 @@ JunctionDynamicsFit fit_junction_dynamics(const JunctionDynamicsProblem& problem
     return std::isfinite(l) ? -l : std::numeric_limits<double>::max();
   };
   minimize_nelder_mead(negative_posterior, Eigen::Vector2d(start.log_rise, start.log_time_constant),
-                       options, -fit.start.log_posterior(), box_low, box_high);
-  if (fit.best.block_log_likelihood.size() == fit.start.block_log_likelihood.size()) {
-    std::tie(fit.block_t, fit.block_p) =
-        one_sided_t_test(fit.best.block_log_likelihood - fit.start.block_log_likelihood);
-  }
+                       options, -search_start.log_posterior(), box_low, box_high);
+  std::tie(fit.block_t, fit.block_p) = block_gain_test(fit.best, fit.start);
   fit.replaced = fit.block_p < options.rejection_level;
   return fit;
 }

@@ -38,10 +38,23 @@
 // datasheet's (on the twin with a coarse sensor, 2Δℓ of 10-36 against χ²(2)'s 9.2 at 1 %, on
 // three draws of three). Otherwise the case-log fit stands, as the Kalman filter's noise levels
 // keep their LMS 200 values unless the log rejects them.
+//
+// The junction's process noise q_j is judged by the ranges too. The case log sets the filter's
+// levels by its innovations' likelihood (core/kalman_noise_fit.hpp), but it sees the junction
+// only through the case, and what it takes for junction noise may be its own misfit: a sensor
+// whose noise is small against its resolution (0.01 °C under 0.1 °C steps) reads a slow case as
+// a staircase, whose rounding errors are correlated over many readings; the filter, which takes
+// them for white, explains them by a junction that wanders (a blind draw's case log moved q_j
+// from 1e-4 to 0.096 K²/s, and its junction estimate wandered ±1.3 K around the true one in the
+// steady state, where the true junction is the case plus a constant). So when the case log moved
+// q_j from its start, the junction at the case-log fit's dynamics is evaluated once more with q_j
+// back at its start, and the ranges judge the move by the same blocks' t-test: they hold q_j at
+// its start when they reject the case log's level, and the search then runs with it.
 #pragma once
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -103,6 +116,19 @@ struct JunctionDynamicsFit {
   double block_t = 0.0;            // the blocks' t statistic of the ranges' gain
   double block_p = 1.0;            // its one-sided p-value
   JunctionDynamicsPoint chosen() const { return replaced ? best : start; }
+  // The filter's levels of the case log, and the junction at start's dynamics with q_j back at
+  // its start when the case log had moved it (JunctionDynamicsProblem::held_junction_noise).
+  core::ThermalNoise case_log_noise;
+  std::optional<core::ThermalNoise> held_junction_noise;
+  std::optional<JunctionDynamicsPoint> held_junction_noise_start;
+  double noise_block_t = 0.0;  // that junction's gain over start's, over the same blocks
+  double noise_block_p = 1.0;
+  // The ranges rejected the case log's q_j: the search ran with q_j held at its start.
+  bool junction_noise_held = false;
+  // The levels of the chosen junction's filter: the calibration's.
+  core::ThermalNoise chosen_noise() const {
+    return replaced && junction_noise_held ? *held_junction_noise : case_log_noise;
+  }
   std::vector<JunctionDynamicsPoint> evaluated;  // in the order evaluated
 };
 
@@ -112,7 +138,10 @@ struct JunctionDynamicsProblem {
   const MeasuredData& data;
   const core::MapFitResult& case_fit;
   const core::MapFitOptions& case_fit_options;
-  core::ThermalNoise kalman_noise;
+  core::ThermalNoise kalman_noise;  // the case log's levels
+  // kalman_noise with q_j back at the level the case log's fit started from, when that fit moved
+  // it; absent when it held q_j or the levels were given.
+  std::optional<core::ThermalNoise> held_junction_noise;
   double ambient_fallback_c = 22.0;
   core::Basis basis;  // its terms are kept; its scaling follows each point's junction
   int modes = 2;

@@ -99,9 +99,26 @@ core::TrainingChoices record_choices(const Training& t) {
     record.case_log_rise_k = j.start.dynamics.rise_k;
     record.case_log_time_constant_s = j.start.dynamics.time_constant_s;
     record.block_p = j.block_p;
+    record.junction_noise_held = j.replaced && j.junction_noise_held;
     choices.junction_dynamics = record;
   }
   return choices;
+}
+
+// The case log's levels with q_j back where their fit started, when that fit moved it (the
+// ranges judge the move, calibration/junction_dynamics.hpp); absent when it held q_j or the
+// levels were given.
+std::optional<core::ThermalNoise> held_junction_noise(
+    const std::optional<core::KalmanNoiseFit>& fit) {
+  if (!fit) return std::nullopt;
+  const auto junction = static_cast<std::size_t>(core::KalmanNoiseLevel::kJunctionProcess);
+  if (fit->levels[junction].held ||
+      fit->noise.junction_process_psd_k2_per_s == fit->start.junction_process_psd_k2_per_s) {
+    return std::nullopt;
+  }
+  core::ThermalNoise held = fit->noise;
+  held.junction_process_psd_k2_per_s = fit->start.junction_process_psd_k2_per_s;
+  return held;
 }
 
 // The junction's dynamics from the ranges (calibration/junction_dynamics.hpp), at the structure
@@ -109,6 +126,7 @@ core::TrainingChoices record_choices(const Training& t) {
 JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSettings& settings,
                                       const core::MapFitResult& case_fit,
                                       const core::ThermalNoise& noise,
+                                      const std::optional<core::ThermalNoise>& held_junction_noise,
                                       const Eigen::VectorXd& junction_c, const core::Basis& basis,
                                       const core::EmTrainOptions& em,
                                       const std::optional<core::EmStartingPoint>& structure_fit) {
@@ -126,9 +144,15 @@ JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSetti
         basis.design_matrix(junction_c), data.range_mm - data.true_range_mm, first);
     start = core::EmStartingPoint{fit.theta, fit.mixture};
   }
-  const JunctionDynamicsProblem problem{data,  case_fit, settings.thermal.prior,
-                                        noise, settings.thermal.ambient_fallback_c,
-                                        basis, em.modes,   start};
+  const JunctionDynamicsProblem problem{data,
+                                        case_fit,
+                                        settings.thermal.prior,
+                                        noise,
+                                        held_junction_noise,
+                                        settings.thermal.ambient_fallback_c,
+                                        basis,
+                                        em.modes,
+                                        start};
   return fit_junction_dynamics(problem, options);
 }
 
@@ -201,11 +225,13 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   if (settings.junction_from_ranges && t.thermal.map && !too_few_to_choose) {
     report(progress, kSearchShare, "junction dynamics from the ranges");
     t.junction_dynamics =
-        complete_junction(fit_data, settings, *t.thermal.map, noise, junction_c, basis, em,
+        complete_junction(fit_data, settings, *t.thermal.map, noise,
+                          held_junction_noise(t.kalman_noise_fit), junction_c, basis, em,
                           structure_fit);
     if (t.junction_dynamics->replaced) {
       t.thermal_parameters = with_junction_dynamics(t.thermal_parameters,
                                                     t.junction_dynamics->best.dynamics);
+      noise = t.junction_dynamics->chosen_noise();
       t.junction = junction_at_ranges(data, t.thermal_parameters, noise,
                                       settings.thermal.ambient_fallback_c);
       junction_c = at_fitted_ranges(t.junction.junction_c);
@@ -247,6 +273,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
     t.junction_dynamics->replaced = false;
     t.junction_dynamics->refused_by_final_fit = e.what();
     t.thermal_parameters = t.thermal.identified();
+    noise = t.junction_dynamics->chosen_noise();
     t.junction = std::move(case_log_junction);
     junction_c = case_log_junction_c;
     basis = case_log_basis;

@@ -82,6 +82,16 @@ nlohmann::json to_json(const calibration::JunctionDynamicsFit& fit) {
           {"block_t", fit.block_t},
           {"block_p", fit.block_p},
           {"replaced", fit.replaced},
+          {"junction_noise",
+           fit.held_junction_noise_start
+               ? nlohmann::json{{"case_log_q_j", fit.case_log_noise.junction_process_psd_k2_per_s},
+                                {"held_q_j", fit.held_junction_noise->junction_process_psd_k2_per_s},
+                                {"held_fit", point(*fit.held_junction_noise_start)},
+                                {"block_t", fit.noise_block_t},
+                                {"block_p", fit.noise_block_p},
+                                {"held", fit.junction_noise_held}}
+               : nlohmann::json(nullptr)},
+          {"chosen_q_j", fit.chosen_noise().junction_process_psd_k2_per_s},
           {"refused_by_final_fit", fit.refused_by_final_fit.empty()
                                        ? nlohmann::json(nullptr)
                                        : nlohmann::json(fit.refused_by_final_fit)},
@@ -144,6 +154,20 @@ std::string structure_text(const core::StructureChoice& choice) {
   return out;
 }
 
+// The ranges' verdict on the case log's q_j, when it had moved it; empty otherwise.
+std::string junction_noise_text(const calibration::JunctionDynamicsFit& fit) {
+  if (!fit.held_junction_noise_start) return "";
+  return fmt::format(
+      "  junction process noise q_j: the case log's {:.3g} K²/s {} by the ranges against {:.3g} "
+      "(its start; log-likelihood {:+.1f} there, over blocks of {} t = {:.2f}, p = {:.2g}){}\n",
+      fit.case_log_noise.junction_process_psd_k2_per_s,
+      fit.junction_noise_held ? "rejected" : "not rejected",
+      fit.held_junction_noise->junction_process_psd_k2_per_s,
+      fit.held_junction_noise_start->ranges_log_likelihood - fit.start.ranges_log_likelihood,
+      calibration::kJunctionBlockRanges, fit.noise_block_t, fit.noise_block_p,
+      fit.junction_noise_held && fit.replaced ? ": the calibration's filter holds it there" : "");
+}
+
 std::string junction_dynamics_text(const calibration::JunctionDynamicsFit& fit) {
   const calibration::JunctionDynamics& chosen = fit.chosen().dynamics;
   return fmt::format(
@@ -160,7 +184,8 @@ std::string junction_dynamics_text(const calibration::JunctionDynamicsFit& fit) 
       fit.start.dynamics.rise_k, fit.start.dynamics.time_constant_s, fit.datasheet.rise_k,
       fit.datasheet.time_constant_s,
       fit.best.ranges_log_likelihood - fit.start.ranges_log_likelihood,
-      calibration::kJunctionBlockRanges, fit.block_t, fit.block_p, fit.evaluated.size());
+      calibration::kJunctionBlockRanges, fit.block_t, fit.block_p, fit.evaluated.size()) +
+         junction_noise_text(fit);
 }
 
 std::string choices_text(const calibration::Training& training) {

@@ -55,6 +55,9 @@ struct JunctionDynamicsRecord {
   double case_log_rise_k = 0.0;  // the case-log fit's
   double case_log_time_constant_s = 0.0;
   double block_p = 1.0;  // the t-test's p-value over blocks of ranges
+  // The ranges rejected the case log's junction process noise q_j: the calibration's
+  // kalman_noise holds it at the level the case log's fit started from.
+  bool junction_noise_held = false;
 };
 struct TrainingChoices {
   std::optional<KalmanNoiseRecord> kalman_noise;

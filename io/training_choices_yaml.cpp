@@ -41,6 +41,7 @@ void emit_training_choices(YAML::Emitter& out, const core::TrainingChoices& choi
     out << YAML::Key << "case_log_rise_k" << YAML::Value << j.case_log_rise_k;
     out << YAML::Key << "case_log_time_constant_s" << YAML::Value << j.case_log_time_constant_s;
     out << YAML::Key << "block_p" << YAML::Value << j.block_p;
+    out << YAML::Key << "junction_noise_held" << YAML::Value << j.junction_noise_held;
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
@@ -86,7 +87,7 @@ core::TrainingChoices read_training_choices(const YamlMap& top) {
   if (section.has("junction_dynamics")) {
     const YamlMap j(section.node("junction_dynamics"), section.child_path("junction_dynamics"),
                     {"method", "from_ranges", "rise_k", "time_constant_s", "case_log_rise_k",
-                     "case_log_time_constant_s", "block_p"});
+                     "case_log_time_constant_s", "block_p", "junction_noise_held"});
     core::JunctionDynamicsRecord record;
     record.method = j.text("method");
     record.from_ranges = j.boolean("from_ranges");
@@ -95,6 +96,8 @@ core::TrainingChoices read_training_choices(const YamlMap& top) {
     record.case_log_rise_k = j.number("case_log_rise_k");
     record.case_log_time_constant_s = j.number("case_log_time_constant_s");
     record.block_p = j.number("block_p");
+    // Absent in calibrations written before the ranges judged q_j.
+    record.junction_noise_held = j.boolean_or("junction_noise_held", false);
     choices.junction_dynamics = record;
   }
   return choices;

@@ -17,6 +17,7 @@
 
 #include "calibration/training.hpp"
 #include "core/error.hpp"
+#include "calibration/measured_data.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
 #include "tests/support/twin_measured_data.hpp"
@@ -103,6 +104,101 @@ TEST(JunctionDynamics, OffLeavesTheThermalFit) {
       train_calibration(test::twin_measured_data(scenario_with_junction(4.5, 36.0)), settings);
   EXPECT_FALSE(t.junction_dynamics.has_value());
   EXPECT_DOUBLE_EQ(t.calibration.thermal.r1_k_per_w, t.thermal.identified().r1_k_per_w);
+}
+
+// The junction dynamics' problem as training poses it, on the twin's datasheet device, with the
+// filter's junction process noise q_j set by the test: `case_log_q_j` as if the case log had
+// fitted it, `start_q_j` where that fit started.
+struct JunctionNoiseCase {
+  MeasuredData data;
+  Training trained;
+  TrainSettings settings;
+};
+
+JunctionNoiseCase datasheet_device() {
+  JunctionNoiseCase c{test::twin_measured_data(scenario_with_junction(1.8, 10.8)), {}, {}};
+  c.settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  c.trained = train_calibration(c.data, c.settings);
+  return c;
+}
+
+JunctionDynamicsFit judge_junction_noise(const JunctionNoiseCase& c, double case_log_q_j,
+                                         double start_q_j) {
+  core::ThermalNoise case_log = c.trained.calibration.kalman_noise;
+  case_log.junction_process_psd_k2_per_s = case_log_q_j;
+  core::ThermalNoise held = case_log;
+  held.junction_process_psd_k2_per_s = start_q_j;
+  JunctionDynamicsOptions options;
+  options.em = c.settings.search.em;
+  options.em.variance_floor = kRangeResolutionMm * kRangeResolutionMm / 12.0;
+  const JunctionDynamicsProblem problem{c.data,
+                                        *c.trained.thermal.map,
+                                        c.settings.thermal.prior,
+                                        case_log,
+                                        held,
+                                        c.settings.thermal.ambient_fallback_c,
+                                        c.trained.calibration.model.basis,
+                                        c.trained.em.mixture.modes(),
+                                        {c.trained.em.theta, c.trained.em.mixture}};
+  return fit_junction_dynamics(problem, options);
+}
+
+// A junction process noise of 0.1 K²/s lets the filter's junction wander a kelvin in ten seconds
+// after the case readings' rounding and noise (what a case log's misfit can ask for, the header);
+// the twin's junction does not wander.
+constexpr double kWanderingJunctionQj = 0.1;
+constexpr double kLms200Qj = 1e-4;
+
+TEST(JunctionDynamics, TheRangesRejectAWanderingJunctionAndNeverAdoptOne) {
+  const JunctionNoiseCase c = datasheet_device();
+  ASSERT_TRUE(c.trained.thermal.map.has_value());
+  // The case log's q_j wanders; its start is the LMS 200 level: the ranges reject the move.
+  const JunctionDynamicsFit rejected = judge_junction_noise(c, kWanderingJunctionQj, kLms200Qj);
+  ASSERT_TRUE(rejected.held_junction_noise_start.has_value());
+  EXPECT_TRUE(rejected.junction_noise_held)
+      << "t " << rejected.noise_block_t << ", p " << rejected.noise_block_p;
+  EXPECT_GT(rejected.held_junction_noise_start->ranges_log_likelihood,
+            rejected.start.ranges_log_likelihood);
+  ASSERT_TRUE(rejected.replaced) << "t " << rejected.block_t << ", p " << rejected.block_p;
+  EXPECT_EQ(rejected.chosen_noise().junction_process_psd_k2_per_s, kLms200Qj);
+  // The other way round: the case log's level is the LMS 200's and the start wanders: the
+  // ranges keep the case log's level.
+  const JunctionDynamicsFit kept = judge_junction_noise(c, kLms200Qj, kWanderingJunctionQj);
+  EXPECT_FALSE(kept.junction_noise_held)
+      << "t " << kept.noise_block_t << ", p " << kept.noise_block_p;
+  EXPECT_EQ(kept.chosen_noise().junction_process_psd_k2_per_s, kLms200Qj);
+}
+
+TEST(JunctionDynamics, TheCalibrationsFilterHasTheJudgedLevel) {
+  const JunctionNoiseCase c = datasheet_device();
+  ASSERT_TRUE(c.trained.junction_dynamics.has_value() && c.trained.kalman_noise_fit.has_value());
+  const JunctionDynamicsFit& fit = *c.trained.junction_dynamics;
+  const double case_log_q_j = c.trained.kalman_noise_fit->noise.junction_process_psd_k2_per_s;
+  // The coarse sensor's case log moves q_j from its start, so the ranges were asked.
+  ASSERT_NE(case_log_q_j, c.trained.kalman_noise_fit->start.junction_process_psd_k2_per_s);
+  ASSERT_TRUE(fit.held_junction_noise_start.has_value());
+  const double expected = fit.replaced && fit.junction_noise_held
+                              ? c.trained.kalman_noise_fit->start.junction_process_psd_k2_per_s
+                              : case_log_q_j;
+  EXPECT_EQ(c.trained.calibration.kalman_noise.junction_process_psd_k2_per_s, expected);
+  ASSERT_TRUE(c.trained.calibration.choices.junction_dynamics.has_value());
+  EXPECT_EQ(c.trained.calibration.choices.junction_dynamics->junction_noise_held,
+            fit.replaced && fit.junction_noise_held);
+}
+
+TEST(JunctionDynamics, GivenLevelsAreNotJudged) {
+  // Levels the user gives (--kalman-noise) are the calibration's; the ranges are not asked.
+  TrainSettings settings;
+  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  core::ThermalNoise given;
+  given.junction_process_psd_k2_per_s = kWanderingJunctionQj;
+  settings.kalman_noise = given;
+  const Training t =
+      train_calibration(test::twin_measured_data(scenario_with_junction(1.8, 10.8)), settings);
+  ASSERT_TRUE(t.junction_dynamics.has_value());
+  EXPECT_FALSE(t.junction_dynamics->held_junction_noise_start.has_value());
+  EXPECT_FALSE(t.junction_dynamics->junction_noise_held);
+  EXPECT_EQ(t.calibration.kalman_noise.junction_process_psd_k2_per_s, kWanderingJunctionQj);
 }
 
 TEST(JunctionDynamics, OptionsAreChecked) {

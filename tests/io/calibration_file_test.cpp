@@ -136,7 +136,7 @@ TEST(CalibrationFile, TrainingChoicesRoundTrip) {
       {{"polynomial(3, legendre), 2 modes", 8, -2.25, 35853.5, 435836.25},
        {"polynomial(9, legendre), 2 modes", 14, -2.2501, 35900.0, 435900.0}}};
   c.choices.junction_dynamics =
-      core::JunctionDynamicsRecord{"ranges", true, 4.25, 31.5, 1.875, 10.8, 0.0125};
+      core::JunctionDynamicsRecord{"ranges", true, 4.25, 31.5, 1.875, 10.8, 0.0125, true};
   write_calibration_file(file, c);
   const core::Calibration back = read_calibration_file(file);
   ASSERT_TRUE(back.choices.kalman_noise && back.choices.structure &&
@@ -149,6 +149,13 @@ TEST(CalibrationFile, TrainingChoicesRoundTrip) {
   EXPECT_EQ(j.case_log_rise_k, 1.875);
   EXPECT_EQ(j.case_log_time_constant_s, 10.8);
   EXPECT_EQ(j.block_p, 0.0125);
+  EXPECT_TRUE(j.junction_noise_held);
+  // A calibration written before the ranges judged q_j reads as not held.
+  const std::string older = replaced(read_all(file), "    junction_noise_held: true\n", "");
+  ASSERT_NE(older, read_all(file));
+  std::ofstream(file) << older;
+  EXPECT_FALSE(read_calibration_file(file).choices.junction_dynamics->junction_noise_held);
+  write_calibration_file(file, c);
   EXPECT_EQ(back.choices.kalman_noise->held, std::vector<std::string>{"junction_process"});
   const core::StructureRecord& s = *back.choices.structure;
   EXPECT_EQ(s.chosen, "polynomial(3, legendre), 2 modes");
