@@ -241,6 +241,17 @@ void JunctionDynamicsOptions::validate() const {
   }
 }
 
+std::optional<core::ThermalNoise> held_junction_noise(const core::KalmanNoiseFit& fit) {
+  const auto junction = static_cast<std::size_t>(core::KalmanNoiseLevel::kJunctionProcess);
+  if (fit.levels[junction].held ||
+      !(fit.noise.junction_process_psd_k2_per_s > fit.start.junction_process_psd_k2_per_s)) {
+    return std::nullopt;
+  }
+  core::ThermalNoise held = fit.noise;
+  held.junction_process_psd_k2_per_s = fit.start.junction_process_psd_k2_per_s;
+  return held;
+}
+
 JunctionDynamicsFit fit_junction_dynamics(const JunctionDynamicsProblem& problem,
                                           const JunctionDynamicsOptions& options,
                                           const JunctionDynamicsProgress& progress) {

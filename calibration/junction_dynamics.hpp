@@ -46,10 +46,14 @@
 // a staircase, whose rounding errors are correlated over many readings; the filter, which takes
 // them for white, explains them by a junction that wanders (a blind draw's case log moved q_j
 // from 1e-4 to 0.096 K²/s, and its junction estimate wandered ±1.3 K around the true one in the
-// steady state, where the true junction is the case plus a constant). So when the case log moved
-// q_j from its start, the junction at the case-log fit's dynamics is evaluated once more with q_j
-// back at its start, and the ranges judge the move by the same blocks' t-test: they hold q_j at
-// its start when they reject the case log's level, and the search then runs with it.
+// steady state, where the true junction is the case plus a constant). So when the case log
+// raised q_j above its start, the junction at the case-log fit's dynamics is evaluated once more
+// with q_j back at its start, and the ranges judge the move by the same blocks' t-test: they hold
+// q_j at its start when they reject the case log's level, and the search then runs with it. (A
+// q_j the log lowered has the junction follow the thermal model, the case-log fit's own junction,
+// and is not asked about: on the twin's default record, asked, the t-test held 1e-4 against the
+// log's 2.4e-7 on a gain of 0.5 nats, and the search then moved the datasheet's junction,
+// 1.8 K and 10.8 s, to 1.2 K and 11 s.)
 #pragma once
 
 #include <Eigen/Core>
@@ -62,6 +66,7 @@
 #include "core/basis.hpp"
 #include "core/em_train.hpp"
 #include "core/kalman.hpp"
+#include "core/kalman_noise_fit.hpp"
 #include "core/thermal_map_fit.hpp"
 
 namespace tofcomp::calibration {
@@ -117,7 +122,7 @@ struct JunctionDynamicsFit {
   double block_p = 1.0;            // its one-sided p-value
   JunctionDynamicsPoint chosen() const { return replaced ? best : start; }
   // The filter's levels of the case log, and the junction at start's dynamics with q_j back at
-  // its start when the case log had moved it (JunctionDynamicsProblem::held_junction_noise).
+  // its start when the case log had raised it (JunctionDynamicsProblem::held_junction_noise).
   core::ThermalNoise case_log_noise;
   std::optional<core::ThermalNoise> held_junction_noise;
   std::optional<JunctionDynamicsPoint> held_junction_noise_start;
@@ -139,14 +144,21 @@ struct JunctionDynamicsProblem {
   const core::MapFitResult& case_fit;
   const core::MapFitOptions& case_fit_options;
   core::ThermalNoise kalman_noise;  // the case log's levels
-  // kalman_noise with q_j back at the level the case log's fit started from, when that fit moved
-  // it; absent when it held q_j or the levels were given.
+  // kalman_noise with q_j back at the level the case log's fit started from, when that fit
+  // raised it (training's choice; any level may be judged here).
   std::optional<core::ThermalNoise> held_junction_noise;
   double ambient_fallback_c = 22.0;
   core::Basis basis;  // its terms are kept; its scaling follows each point's junction
   int modes = 2;
   core::EmStartingPoint start;  // the structure search's fit at the case-log fit's junction
 };
+
+// The case log's levels with q_j back where their fit started, when that fit raised it: the
+// alternative the ranges judge (JunctionDynamicsProblem::held_junction_noise). Absent when the
+// fit held or lowered q_j: a lower q_j has the junction follow the thermal model, the case-log
+// fit's own junction, which the search judges already; a higher one lets it follow the case
+// readings' misfit, which is what the ranges guard against.
+std::optional<core::ThermalNoise> held_junction_noise(const core::KalmanNoiseFit& fit);
 
 using JunctionDynamicsProgress = std::function<void(const JunctionDynamicsPoint&)>;
 

@@ -105,22 +105,6 @@ core::TrainingChoices record_choices(const Training& t) {
   return choices;
 }
 
-// The case log's levels with q_j back where their fit started, when that fit moved it (the
-// ranges judge the move, calibration/junction_dynamics.hpp); absent when it held q_j or the
-// levels were given.
-std::optional<core::ThermalNoise> held_junction_noise(
-    const std::optional<core::KalmanNoiseFit>& fit) {
-  if (!fit) return std::nullopt;
-  const auto junction = static_cast<std::size_t>(core::KalmanNoiseLevel::kJunctionProcess);
-  if (fit->levels[junction].held ||
-      fit->noise.junction_process_psd_k2_per_s == fit->start.junction_process_psd_k2_per_s) {
-    return std::nullopt;
-  }
-  core::ThermalNoise held = fit->noise;
-  held.junction_process_psd_k2_per_s = fit->start.junction_process_psd_k2_per_s;
-  return held;
-}
-
 // The junction's dynamics from the ranges (calibration/junction_dynamics.hpp), at the structure
 // chosen; the EM starts from the structure search's fit, or from a fit at the given structure.
 JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSettings& settings,
@@ -224,10 +208,10 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   const core::Basis case_log_basis = basis;
   if (settings.junction_from_ranges && t.thermal.map && !too_few_to_choose) {
     report(progress, kSearchShare, "junction dynamics from the ranges");
-    t.junction_dynamics =
-        complete_junction(fit_data, settings, *t.thermal.map, noise,
-                          held_junction_noise(t.kalman_noise_fit), junction_c, basis, em,
-                          structure_fit);
+    const std::optional<core::ThermalNoise> held_noise =
+        t.kalman_noise_fit ? held_junction_noise(*t.kalman_noise_fit) : std::nullopt;
+    t.junction_dynamics = complete_junction(fit_data, settings, *t.thermal.map, noise, held_noise,
+                                            junction_c, basis, em, structure_fit);
     if (t.junction_dynamics->replaced) {
       t.thermal_parameters = with_junction_dynamics(t.thermal_parameters,
                                                     t.junction_dynamics->best.dynamics);

@@ -169,21 +169,40 @@ TEST(JunctionDynamics, TheRangesRejectAWanderingJunctionAndNeverAdoptOne) {
   EXPECT_EQ(kept.chosen_noise().junction_process_psd_k2_per_s, kLms200Qj);
 }
 
-TEST(JunctionDynamics, TheCalibrationsFilterHasTheJudgedLevel) {
+TEST(JunctionDynamics, OnlyARaisedQjIsJudgedAndTheCalibrationsFilterHasTheVerdict) {
   const JunctionNoiseCase c = datasheet_device();
   ASSERT_TRUE(c.trained.junction_dynamics.has_value() && c.trained.kalman_noise_fit.has_value());
   const JunctionDynamicsFit& fit = *c.trained.junction_dynamics;
-  const double case_log_q_j = c.trained.kalman_noise_fit->noise.junction_process_psd_k2_per_s;
-  // The coarse sensor's case log moves q_j from its start, so the ranges were asked.
-  ASSERT_NE(case_log_q_j, c.trained.kalman_noise_fit->start.junction_process_psd_k2_per_s);
-  ASSERT_TRUE(fit.held_junction_noise_start.has_value());
-  const double expected = fit.replaced && fit.junction_noise_held
-                              ? c.trained.kalman_noise_fit->start.junction_process_psd_k2_per_s
-                              : case_log_q_j;
-  EXPECT_EQ(c.trained.calibration.kalman_noise.junction_process_psd_k2_per_s, expected);
+  const core::KalmanNoiseFit& log = *c.trained.kalman_noise_fit;
+  const double case_log_q_j = log.noise.junction_process_psd_k2_per_s;
+  const double start_q_j = log.start.junction_process_psd_k2_per_s;
+  // The coarse sensor's case log lowers q_j below its start: the junction follows the thermal
+  // model, and the ranges are not asked.
+  ASSERT_LT(case_log_q_j, start_q_j);
+  EXPECT_FALSE(fit.held_junction_noise_start.has_value());
+  EXPECT_EQ(c.trained.calibration.kalman_noise.junction_process_psd_k2_per_s, case_log_q_j);
   ASSERT_TRUE(c.trained.calibration.choices.junction_dynamics.has_value());
-  EXPECT_EQ(c.trained.calibration.choices.junction_dynamics->junction_noise_held,
-            fit.replaced && fit.junction_noise_held);
+  EXPECT_FALSE(c.trained.calibration.choices.junction_dynamics->junction_noise_held);
+}
+
+TEST(JunctionDynamics, TheAlternativeIsQjBackAtItsStartWhenTheLogRaisedIt) {
+  core::KalmanNoiseFit log;
+  log.start.junction_process_psd_k2_per_s = kLms200Qj;
+  log.noise = log.start;
+  log.noise.case_process_psd_k2_per_s = 3e-6;
+  log.noise.measurement_variance_k2 = 6e-4;
+  const auto junction = static_cast<std::size_t>(core::KalmanNoiseLevel::kJunctionProcess);
+  log.noise.junction_process_psd_k2_per_s = kWanderingJunctionQj;  // raised
+  const std::optional<core::ThermalNoise> held = held_junction_noise(log);
+  ASSERT_TRUE(held.has_value());
+  EXPECT_EQ(held->junction_process_psd_k2_per_s, kLms200Qj);
+  EXPECT_EQ(held->case_process_psd_k2_per_s, 3e-6);  // the other levels stay the log's
+  EXPECT_EQ(held->measurement_variance_k2, 6e-4);
+  log.noise.junction_process_psd_k2_per_s = 1e-10;  // lowered
+  EXPECT_FALSE(held_junction_noise(log).has_value());
+  log.noise.junction_process_psd_k2_per_s = kLms200Qj;  // held
+  log.levels[junction].held = true;
+  EXPECT_FALSE(held_junction_noise(log).has_value());
 }
 
 TEST(JunctionDynamics, GivenLevelsAreNotJudged) {
