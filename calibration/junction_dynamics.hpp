@@ -134,7 +134,9 @@ struct JunctionDynamicsFit {
   core::ThermalNoise chosen_noise() const {
     return replaced && junction_noise_held ? *held_junction_noise : case_log_noise;
   }
-  std::vector<JunctionDynamicsPoint> evaluated;  // in the order evaluated
+  // In the order evaluated: the search's points and, second, the q_j alternative when there is
+  // one (best is the best of the points at the q_j the search ran with).
+  std::vector<JunctionDynamicsPoint> evaluated;
 };
 
 // What the search needs of training: the data, the case-log fit, the filter's noise levels and

@@ -154,7 +154,7 @@ std::string structure_text(const core::StructureChoice& choice) {
   return out;
 }
 
-// The ranges' verdict on the case log's q_j, when it had moved it; empty otherwise.
+// The ranges' verdict on the case log's q_j, when it had raised it; empty otherwise.
 std::string junction_noise_text(const calibration::JunctionDynamicsFit& fit) {
   if (!fit.held_junction_noise_start) return "";
   return fmt::format(
