@@ -130,9 +130,12 @@ struct JunctionDynamicsFit {
   double noise_block_p = 1.0;
   // The ranges rejected the case log's q_j: the search ran with q_j held at its start.
   bool junction_noise_held = false;
+  // The chosen junction's filter holds q_j at its start: the ranges rejected the case log's
+  // level, and the search's answer replaced the case-log fit's junction.
+  bool chosen_holds_junction_noise() const { return replaced && junction_noise_held; }
   // The levels of the chosen junction's filter: the calibration's.
   core::ThermalNoise chosen_noise() const {
-    return replaced && junction_noise_held ? *held_junction_noise : case_log_noise;
+    return chosen_holds_junction_noise() ? *held_junction_noise : case_log_noise;
   }
   // In the order evaluated: the search's points and, second, the q_j alternative when there is
   // one (best is the best of the points at the q_j the search ran with).

@@ -99,7 +99,7 @@ core::TrainingChoices record_choices(const Training& t) {
     record.case_log_rise_k = j.start.dynamics.rise_k;
     record.case_log_time_constant_s = j.start.dynamics.time_constant_s;
     record.block_p = j.block_p;
-    record.junction_noise_held = j.replaced && j.junction_noise_held;
+    record.junction_noise_held = j.chosen_holds_junction_noise();
     choices.junction_dynamics = record;
   }
   return choices;

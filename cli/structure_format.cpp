@@ -165,7 +165,7 @@ std::string junction_noise_text(const calibration::JunctionDynamicsFit& fit) {
       fit.held_junction_noise->junction_process_psd_k2_per_s,
       fit.held_junction_noise_start->ranges_log_likelihood - fit.start.ranges_log_likelihood,
       calibration::kJunctionBlockRanges, fit.noise_block_t, fit.noise_block_p,
-      fit.junction_noise_held && fit.replaced ? ": the calibration's filter holds it there" : "");
+      fit.chosen_holds_junction_noise() ? ": the calibration's filter holds it there" : "");
 }
 
 std::string junction_dynamics_text(const calibration::JunctionDynamicsFit& fit) {
