@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/step_cache.hpp"
 #include "core/validation.hpp"
 
 namespace tofcomp::core {
@@ -30,19 +31,21 @@ void require_step(double dt_s) {
   }
 }
 
-// The hold and process noise of one step, recomputed only when the step changes (a regular log
-// discretizes once).
+// The hold and process noise of one step.
 struct StepModel {
   DiscreteThermalModel hold{Eigen::Matrix2d::Identity(), Eigen::Vector2d::Zero(),
                             Eigen::Vector2d::Zero(), -1.0};  // no step yet
   Eigen::Matrix2d process_covariance = Eigen::Matrix2d::Zero();
 };
 
+StepModel step_model(const ThermalParameters& parameters, const ThermalNoise& noise, double dt_s) {
+  return {discretize_zoh(parameters, dt_s), process_noise_covariance(parameters, noise, dt_s)};
+}
+
 void refresh(StepModel& step, const ThermalParameters& parameters, const ThermalNoise& noise,
              double dt_s) {
   if (dt_s == step.hold.step_s) return;
-  step.hold = discretize_zoh(parameters, dt_s);
-  step.process_covariance = process_noise_covariance(parameters, noise, dt_s);
+  step = step_model(parameters, noise, dt_s);
 }
 
 // Kalman time update through Eq. 5.
@@ -211,12 +214,16 @@ SmoothedThermalRecord smooth_thermal_record(
 
   SmoothedThermalRecord out;
   std::vector<ThermalBelief> filtered(static_cast<std::size_t>(k));
-  StepModel step;
+  StepCache<StepModel> steps;
+  const auto step_at = [&](Eigen::Index i) -> const StepModel& {
+    return steps.at(times_s[i] - times_s[i - 1], [&](double dt_s) {
+      return step_model(parameters, noise, dt_s);
+    });
+  };
   ThermalBelief belief = initial;
   for (Eigen::Index i = 0; i < k; ++i) {
     if (i > 0) {
-      refresh(step, parameters, noise, times_s[i] - times_s[i - 1]);
-      belief = predicted(belief, step, power_on_fraction[i - 1], ambient_c[i - 1]);
+      belief = predicted(belief, step_at(i), power_on_fraction[i - 1], ambient_c[i - 1]);
     }
     if (measured[static_cast<std::size_t>(i)]) {
       out.log_likelihood += updated(belief, case_measurement_c[i], noise.measurement_variance_k2);
@@ -236,7 +243,7 @@ SmoothedThermalRecord smooth_thermal_record(
     out.junction_std_c[i] = standard_deviation(smoothed.covariance(1, 1));
     if (i == 0) break;
     const ThermalBelief& f = filtered[static_cast<std::size_t>(i - 1)];
-    refresh(step, parameters, noise, times_s[i] - times_s[i - 1]);
+    const StepModel& step = step_at(i);
     const ThermalBelief p = predicted(f, step, power_on_fraction[i - 1], ambient_c[i - 1]);
     // G = P_f Φᵀ P_p⁻¹, solved as Gᵀ = P_p⁻¹ Φ P_f; the pseudo-inverse keeps a singular P_p
     // (no process noise and a collapsed covariance) finite.

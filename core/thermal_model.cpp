@@ -7,6 +7,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "core/error.hpp"
+#include "core/step_cache.hpp"
 #include "core/validation.hpp"
 
 namespace tofcomp::core {
@@ -158,14 +159,14 @@ ThermalTrajectory simulate_at_times(const ThermalParameters& parameters,
   require_finite(initial_state, "initial state");
   const Eigen::Index k = times_s.size();
   ThermalTrajectory out{Eigen::VectorXd(k), Eigen::VectorXd(k)};
-  DiscreteThermalModel model = discretize_zoh(parameters, 0.0);
+  StepCache<DiscreteThermalModel> steps;
   Eigen::Vector2d x = initial_state;
   for (Eigen::Index i = 0; i < k; ++i) {
     out.case_c[i] = x[0];
     out.junction_c[i] = x[1];
     if (i + 1 == k) break;
-    const double step = times_s[i + 1] - times_s[i];
-    if (step != model.step_s) model = discretize_zoh(parameters, step);
+    const DiscreteThermalModel& model = steps.at(
+        times_s[i + 1] - times_s[i], [&](double step_s) { return discretize_zoh(parameters, step_s); });
     x = model.a * x + model.b_power * power_on_fraction[i] + model.b_ambient * ambient_c[i];
   }
   return out;
