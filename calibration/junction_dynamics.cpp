@@ -10,6 +10,7 @@
 #include <tuple>
 #include <utility>
 
+#include "calibration/final_fit.hpp"
 #include "calibration/junction_estimate.hpp"
 #include "core/error.hpp"
 #include "core/gaussian_mixture.hpp"
@@ -102,13 +103,20 @@ class Evaluator {
       // The mixture starts where the last fit ended; θ's coordinates follow the rescaled basis,
       // so θ starts at least squares.
       em.start = least_squares_start(h, y_minus_d_, warm_.mixture);
-      const core::EmTrainResult result = core::train_em(h, y_minus_d_, em);
+      // At some junctions the data show fewer modes than the structure search counted on the
+      // case-log junction: a mode empties, and the likelihood there is that of the modes left
+      // (the limit of its weight going to zero), not a failure. (Taken for a failure, such points
+      // cornered the search: on a twin day record 7 of its 37 points, the last four among them.)
+      const core::EmTrainResult result = train_em_dropping_emptied_modes(h, y_minus_d_, em).em;
       point.ranges_log_likelihood = result.log_likelihood;
       point.block_log_likelihood = block_sums(
           core::mixture_log_densities(y_minus_d_ - h * result.theta, result.mixture));
-      warm_ = core::EmStartingPoint{result.theta, result.mixture};
+      // The next point starts from this one's fit when it kept every mode.
+      if (result.mixture.modes() == problem_.modes) {
+        warm_ = core::EmStartingPoint{result.theta, result.mixture};
+      }
     } catch (const core::Error&) {
-      if (required) throw;
+        if (required) throw;
       point.ranges_log_likelihood = kMinusInfinity;
     }
     fit.evaluated.push_back(point);
