@@ -58,6 +58,20 @@ Eigen::VectorXd nearest_mode_deviation(const Eigen::VectorXd& residual,
   return deviation / std::max(1.4826 * *middle, 1e-12);
 }
 
+// The extra-mode test's EM fits: their cap, and their stopping rule. The split likelihood ratio
+// reads only the halves' log-likelihoods, so EM stops when the log-likelihood has settled, not on
+// the paper's rule on the weights: on a flat ridge (two near-equal modes, which a structure search
+// that counted M modes often keeps) the weights drift for hundreds of iterations while the
+// likelihood creeps by 1e-5 nats an iteration (on a day record of 86,400 ranges all four fits ran
+// to the cap of 500 that way, a fifth of diagnose's EM work). The likelihood's rule: under 1e-9
+// nats per range an iteration (4e-5 nats on a half of that record: 78-199 iterations there),
+// which leaves the null's likelihood 0.06-0.16 nats below where the cap of 500 left it (the
+// crawl had not ended there either), against the test's threshold of log(9 / 0.05) = 5.2 nats.
+// No weight moves by more than 1: the weights' rule is off.
+constexpr int kExtraModeMaxIterations = 500;
+constexpr double kExtraModeLogLikelihoodTolerance = 1e-9;
+constexpr double kWeightRuleOff = 2.0;
+
 // The (M)-mode and (M+1)-mode mixtures of one half, by the paper's EM with no bias columns;
 // no value when EM cannot keep that many modes populated.
 // start: the mixture EM starts from (the quantile start when none).
@@ -66,7 +80,9 @@ std::optional<MixtureParameters> fit_modes(const Eigen::VectorXd& residual, int 
   EmTrainOptions options;
   options.modes = modes;
   options.record_trace = false;
-  options.max_iterations = 500;
+  options.max_iterations = kExtraModeMaxIterations;
+  options.weight_tolerance = kWeightRuleOff;
+  options.log_likelihood_tolerance = kExtraModeLogLikelihoodTolerance;
   if (start) options.start = EmStartingPoint{Eigen::VectorXd(0), *start};
   try {
     return train_em(Eigen::MatrixXd(residual.size(), 0), residual, options).mixture;
