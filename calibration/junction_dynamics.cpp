@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <limits>
 #include <Eigen/QR>
@@ -14,6 +13,8 @@
 #include "calibration/junction_estimate.hpp"
 #include "core/error.hpp"
 #include "core/gaussian_mixture.hpp"
+#include "core/sign_flip_max_t.hpp"
+#include "core/statistical_tests.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -49,24 +50,17 @@ Eigen::VectorXd block_sums(const Eigen::VectorXd& values) {
   return sums;
 }
 
-// The one-sided t-test that the mean of `gain` is positive: (t, p).
-std::pair<double, double> one_sided_t_test(const Eigen::VectorXd& gain) {
-  const auto n = static_cast<double>(gain.size());
-  if (n < 2.0) return {0.0, 1.0};
-  const double mean = gain.mean();
-  const double variance = (gain.array() - mean).square().sum() / (n - 1.0);
-  if (!(variance > 0.0)) return {0.0, 1.0};
-  const double t = mean / std::sqrt(variance / n);
-  const boost::math::students_t student(n - 1.0);
-  return {t, boost::math::cdf(boost::math::complement(student, t))};
-}
-
 // The one-sided t-test that `point`'s ranges gain over `reference`'s, over the same blocks:
 // (t, p); (0, 1) when `point` has no fit.
 std::pair<double, double> block_gain_test(const JunctionDynamicsPoint& point,
                                           const JunctionDynamicsPoint& reference) {
-  if (point.block_log_likelihood.size() != reference.block_log_likelihood.size()) return {0.0, 1.0};
-  return one_sided_t_test(point.block_log_likelihood - reference.block_log_likelihood);
+  if (point.block_log_likelihood.size() != reference.block_log_likelihood.size() ||
+      point.block_log_likelihood.size() < 2) {
+    return {0.0, 1.0};
+  }
+  const double t = core::SignFlipMaxT::t_statistic(point.block_log_likelihood -
+                                                   reference.block_log_likelihood);
+  return {t, core::student_upper_tail(t, static_cast<double>(point.block_log_likelihood.size()) - 1.0)};
 }
 
 // Evaluates points of the search, each EM fit warm-started from the last successful one.

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -19,6 +18,7 @@
 #include "core/error.hpp"
 #include "core/estimators.hpp"
 #include "core/sign_flip_max_t.hpp"
+#include "core/statistical_tests.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -299,11 +299,7 @@ void score_held_out(const SearchData& data, const FoldModel& model,
 }
 
 // P(T ≥ t) for Student's T with runs − 1 degrees of freedom.
-double one_sided_p(double t, double runs) {
-  if (std::isinf(t)) return t > 0.0 ? 0.0 : 1.0;
-  const boost::math::students_t student(runs - 1.0);
-  return boost::math::cdf(boost::math::complement(student, t));
-}
+double one_sided_p(double t, double runs) { return core::student_upper_tail(t, runs - 1.0); }
 
 struct BlockTest {
   Eigen::VectorXd run_gains;  // the gains summed over each run of consecutive scored ranges

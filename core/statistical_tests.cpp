@@ -1,6 +1,10 @@
 #include "core/statistical_tests.hpp"
 
 #include <algorithm>
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
+#include <boost/math/distributions/students_t.hpp>
+#include <boost/math/special_functions/gamma.hpp>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -11,54 +15,28 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr int kMaxTerms = 10000;
-constexpr double kRelativeTolerance = 1e-15;
-
-// P(a, x) by its power series: e^{−x} x^a / Γ(a+1) Σ x^n / ((a+1)…(a+n)).
-double lower_gamma_series(double a, double x) {
-  double term = 1.0 / a;
-  double sum = term;
-  for (int n = 1; n < kMaxTerms; ++n) {
-    term *= x / (a + n);
-    sum += term;
-    if (std::abs(term) < std::abs(sum) * kRelativeTolerance) break;
-  }
-  return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
-}
-
-// Q(a, x) by its continued fraction, evaluated with the modified Lentz method.
-double upper_gamma_fraction(double a, double x) {
-  constexpr double kTiny = 1e-300;
-  double b = x + 1.0 - a;
-  double c = 1.0 / kTiny;
-  double d = 1.0 / b;
-  double h = d;
-  for (int i = 1; i < kMaxTerms; ++i) {
-    const double an = -i * (i - a);
-    b += 2.0;
-    d = an * d + b;
-    if (std::abs(d) < kTiny) d = kTiny;
-    c = b + an / c;
-    if (std::abs(c) < kTiny) c = kTiny;
-    d = 1.0 / d;
-    const double delta = d * c;
-    h *= delta;
-    if (std::abs(delta - 1.0) < kRelativeTolerance) break;
-  }
-  return std::exp(-x + a * std::log(x) - std::lgamma(a)) * h;
-}
+// Below this a probability is not represented well enough to take its log: the tails are then
+// computed in logs (the Poisson series, the normal tail's asymptotic series).
+constexpr double kSmallestProbability = 1e-300;
+// The far Poisson tail's series: its terms' cap and relative tolerance.
+constexpr int kMaxSeriesTerms = 10000;
+constexpr double kSeriesTolerance = 1e-17;
 
 }  // namespace
 
 double regularized_upper_gamma(double a, double x) {
   require_positive(a, "gamma shape a");
   if (!(x >= 0.0) || !std::isfinite(x)) throw InvalidInput("gamma argument x must be >= 0");
-  if (x == 0.0) return 1.0;
-  return x < a + 1.0 ? 1.0 - lower_gamma_series(a, x) : upper_gamma_fraction(a, x);
+  return boost::math::gamma_q(a, x);
 }
 
 double chi_square_survival(double x, double df) {
-  return regularized_upper_gamma(0.5 * df, std::max(0.0, 0.5 * x));
+  return boost::math::cdf(boost::math::complement(boost::math::chi_squared(df), std::max(0.0, x)));
+}
+
+double student_upper_tail(double t, double df) {
+  if (std::isinf(t)) return t > 0.0 ? 0.0 : 1.0;
+  return boost::math::cdf(boost::math::complement(boost::math::students_t(df), t));
 }
 
 double chi_square_to_z(double x, double df) {
@@ -67,7 +45,7 @@ double chi_square_to_z(double x, double df) {
 }
 
 double two_sided_normal_p(double z) {
-  return std::erfc(std::abs(z) / std::sqrt(2.0));
+  return 2.0 * boost::math::cdf(boost::math::complement(boost::math::normal(), std::abs(z)));
 }
 
 TestResult ljung_box(const Eigen::Ref<const Eigen::VectorXd>& series, int lags) {
@@ -177,20 +155,22 @@ TestResult tail_excess_test(double observed, double n, double tail_probability) 
   }
   const double lambda = n * tail_probability;
   const double k = std::floor(observed);
-  // log P(X ≥ k), X ~ Poisson(λ): P(X ≤ k − 1) = Q(k, λ) where that is not tiny; in the far
-  // tail (k > λ) the series e^{−λ} λ^k / k! Σ_m λ^m k! / (k + m)!, in logs, so that a count far
-  // beyond its expectation keeps a finite z instead of a p-value of 0.
+  // log P(X ≥ k), X ~ Poisson(λ); beyond its expectation (k > λ), where the probability may be
+  // too small for a double, the far tail's series e^{−λ} λ^k / k! Σ_m λ^m k! / (k + m)!, in
+  // logs, so that a count far beyond its expectation keeps a finite z instead of a p-value of 0.
   double log_p = 0.0;
   if (k > 0.0) {
     if (k > lambda) {
       double term = 1.0, sum = 1.0;
-      for (double m = 1.0; m < 10000.0 && term > 1e-17 * sum; m += 1.0) {
+      for (int m = 1; m < kMaxSeriesTerms && term > kSeriesTolerance * sum; ++m) {
         term *= lambda / (k + m);
         sum += term;
       }
       log_p = -lambda + k * std::log(lambda) - std::lgamma(k + 1.0) + std::log(sum);
     } else {
-      log_p = std::log(std::max(1.0 - regularized_upper_gamma(k, lambda), 1e-300));
+      // At or below its expectation the count's tail is not small: P(X ≥ k) = P(k, λ), the
+      // regularized lower incomplete gamma function.
+      log_p = std::log(std::max(boost::math::gamma_p(k, lambda), kSmallestProbability));
     }
   }
   TestResult r;
@@ -201,13 +181,18 @@ TestResult tail_excess_test(double observed, double n, double tail_probability) 
 }
 
 double log_upper_normal_tail(double z) {
-  if (z < 30.0) return std::log(0.5 * std::erfc(z / std::numbers::sqrt2));
+  const double tail = boost::math::cdf(boost::math::complement(boost::math::normal(), z));
+  if (tail > kSmallestProbability) return std::log(tail);
   return -0.5 * z * z - std::log(z * std::sqrt(2.0 * std::numbers::pi)) +
          std::log1p(-1.0 / (z * z));
 }
 
 double normal_deviate_of_log_p(double log_p) {
   if (log_p >= std::log(0.5)) return 0.0;
+  if (log_p > std::log(kSmallestProbability)) {
+    return boost::math::quantile(boost::math::complement(boost::math::normal(), std::exp(log_p)));
+  }
+  // Beyond what a double holds as a probability: Newton on the asymptotic log tail.
   double z = std::sqrt(-2.0 * log_p);
   for (int i = 0; i < 60; ++i) {
     // d/dz log Q(z) = −φ(z)/Q(z) ≈ −(z + 1/z) for large z; Newton on log Q.

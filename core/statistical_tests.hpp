@@ -1,6 +1,6 @@
 // Classical tests the residual diagnosis uses, each returning its statistic and p-value.
-// Pure functions on vectors; the distributions' tails are computed from the regularized
-// incomplete gamma function and erfc, accurate to ~1e-12 relative.
+// Pure functions on vectors; the distributions' tails are Boost.Math's, and in logs where the
+// probability is too small for a double (so that z stays finite far in the tail).
 #pragma once
 
 #include <Eigen/Core>
@@ -25,6 +25,8 @@ double regularized_upper_gamma(double a, double x);
 double chi_square_survival(double x, double df);
 // P(|N(0,1)| > |z|).
 double two_sided_normal_p(double z);
+// P(T ≥ t) for Student's T with df degrees of freedom (0 at t = +∞, 1 at −∞).
+double student_upper_tail(double t, double df);
 
 // Ljung–Box: Q = n(n+2) Σ_{k=1..h} ρ_k² / (n − k) against χ²_h; small p: serial dependence.
 TestResult ljung_box(const Eigen::Ref<const Eigen::VectorXd>& series, int lags);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -22,6 +24,18 @@ TEST(StatisticalTests, TailsMatchTables) {
   EXPECT_NEAR(regularized_upper_gamma(1.0, 0.3), std::exp(-0.3), 1e-15);
   EXPECT_NEAR(two_sided_normal_p(1.959963984540054), 0.05, 1e-14);
   EXPECT_THROW(regularized_upper_gamma(0.0, 1.0), InvalidInput);
+}
+
+// Student's upper tail: closed forms for one degree of freedom (Cauchy, 1/2 − atan(t)/π) and two
+// (1/2 − t / (2√(2 + t²))), a table's quantile, and the infinite t a constant positive gain gives.
+TEST(StatisticalTests, StudentTailMatchesClosedFormsAndTables) {
+  for (const double t : {-3.0, 0.0, 0.7, 12.0}) {
+    EXPECT_NEAR(student_upper_tail(t, 1.0), 0.5 - std::atan(t) / std::numbers::pi, 1e-14) << t;
+    EXPECT_NEAR(student_upper_tail(t, 2.0), 0.5 - t / (2.0 * std::sqrt(2.0 + t * t)), 1e-14) << t;
+  }
+  EXPECT_NEAR(student_upper_tail(1.812461122811676, 10.0), 0.05, 1e-12);
+  EXPECT_EQ(student_upper_tail(std::numeric_limits<double>::infinity(), 5.0), 0.0);
+  EXPECT_EQ(student_upper_tail(-std::numeric_limits<double>::infinity(), 5.0), 1.0);
 }
 
 TEST(StatisticalTests, LjungBoxByHand) {
