@@ -4,6 +4,8 @@
 // the held-out error of d̂ before and after against the Cramér–Rao bound; the residual tests
 // (core/residual_diagnosis.hpp) follow as evidence.
 
+#include "calibration/compensation.hpp"
+#include "calibration/covariates.hpp"
 #include "calibration/diagnosis.hpp"
 #include "calibration/junction_estimate.hpp"
 #include "calibration/model_search.hpp"
@@ -15,7 +17,9 @@
 #include "cli/report_options.hpp"
 #include "cli/search_format.hpp"
 #include "cli/shared_options.hpp"
+#include "io/atomic_file.hpp"
 #include "io/calibration_file.hpp"
+#include "io/covariates_csv.hpp"
 
 namespace tofcomp::cli {
 namespace {
@@ -23,6 +27,7 @@ namespace {
 struct SearchSettings {
   std::string calibration;  // empty: train one
   std::string calibration_output;
+  std::string covariates_output;
   int threads = 0;
 };
 
@@ -50,6 +55,19 @@ Base base_model(const calibration::MeasuredData& measured, const SearchSettings&
   return {std::move(c), std::move(junction)};
 }
 
+// The grammar's covariates at each range and the base model's centred residual y − d − Hθ̂ − Σ π μ.
+void write_covariates(const calibration::MeasuredData& measured, const Base& base,
+                      const std::string& file) {
+  const calibration::Compensation compensation = calibration::compensate(measured, base.calibration);
+  const Eigen::VectorXd residual =
+      (measured.range_mm - measured.true_range_mm - compensation.bias_mm).array() -
+      base.calibration.model.mixture.mean_offset();
+  const core::CovariateTable covariates = calibration::covariate_table(measured, compensation.junction);
+  io::write_file_atomically(file, [&](std::ostream& out) {
+    io::write_covariates_csv(out, measured.range_time_s, residual, covariates);
+  });
+}
+
 }  // namespace
 
 void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
@@ -71,6 +89,10 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("--calibration-output", s->calibration_output,
                   "Write the calibration with the kept terms (for tofcomp test, replay and "
                   "tofcompd)");
+  cmd->add_option("--covariates-output", s->covariates_output,
+                  "Write the covariates the search tried at each range, with the trained model's "
+                  "centred residual, as CSV (to plot one against the other; columns in "
+                  "docs/closing-the-loop.md)");
   auto report = add_report_options(*cmd);
   cmd->callback([&common, &run, data, training, s, search_options, report] {
     run = [&common, data, training, s, search_options, report] {
@@ -80,6 +102,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       measured.require_true_ranges();
       const calibration::ModelSearchOptions options = search_options->options(s->threads);
       const Base base = base_model(measured, *s, training->settings(), progress);
+      if (!s->covariates_output.empty()) write_covariates(measured, base, s->covariates_output);
       const calibration::ModelSearchResult search = calibration::search_model(
           measured, base.calibration, base.junction, options,
           [&](double share, const std::string& stage) {
