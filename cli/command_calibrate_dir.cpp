@@ -64,7 +64,7 @@ void register_calibrate_dir(CLI::App& app, const CommonOptions& common, CommandR
   cmd->add_option("-j,--jobs", o->jobs,
                   "Recordings calibrated at once (default: one per core; the results do not "
                   "depend on it)")
-      ->check(between(1, 256));
+      ->check(between(1, kMaxParallelism));
   auto training = add_training_options(*cmd);
   auto search = add_search_options(*cmd);
   cmd->callback([&common, &run, o, training, search] {

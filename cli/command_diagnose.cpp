@@ -85,7 +85,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
   auto search_options = add_search_options(*cmd);
   cmd->add_option("--threads", s->threads, "Fits run at once: the structure search's folds and the model search's candidates "
                   "(default: one per core; the results do not depend on it)")
-      ->check(between(1, 256));
+      ->check(between(1, kMaxParallelism));
   cmd->add_option("--calibration-output", s->calibration_output,
                   "Write the calibration with the kept terms (for tofcomp test, replay and "
                   "tofcompd)");

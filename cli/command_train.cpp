@@ -1,6 +1,7 @@
 // tofcomp train DATA [--datasheet D.yaml] -o CALIBRATION.yaml: thermal identification, the
 // Kalman-smoothed junction temperature and EM training (§3, §5) into a calibration file.
 #include "cli/command.hpp"
+#include "cli/number_checks.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
 #include "cli/shared_options.hpp"
@@ -17,12 +18,19 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
   auto training = add_training_options(*cmd);
   auto output = std::make_shared<std::string>();
   cmd->add_option("-o,--output", *output, "Calibration file to write (YAML)")->required();
-  cmd->callback([&common, &run, data, training, output] {
-    run = [&common, data, training, output] {
+  auto threads = std::make_shared<int>(0);
+  cmd->add_option("--threads", *threads,
+                  "Fits run at once: the structure search's folds (default: one per core; the "
+                  "results do not depend on it)")
+      ->check(between(1, kMaxParallelism));
+  cmd->callback([&common, &run, data, training, output, threads] {
+    run = [&common, data, training, output, threads] {
       Progress progress("train", !common.quiet);
       const calibration::MeasuredData measured = data->load();
+      calibration::TrainSettings settings = training->settings();
+      settings.threads = *threads;
       const calibration::Training t = calibration::train_calibration(
-          measured, training->settings(), nullptr,
+          measured, settings, nullptr,
           [&](double share, const std::string& stage) { progress.update(share, stage); });
       io::write_calibration_file(*output, t.calibration);
       progress.done("wrote " + *output);

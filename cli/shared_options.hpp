@@ -13,6 +13,9 @@
 
 namespace tofcomp::cli {
 
+// The most threads or jobs a command takes at once (--threads, --jobs).
+inline constexpr int kMaxParallelism = 256;
+
 struct DataOptions {
   std::string file;
   int beam = 0;
