@@ -401,7 +401,7 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
   current = std::move(last.parameters);
   result.theta = std::move(current.theta);
   result.mixture = std::move(current.mixture);
-  sort_modes(result);
+  if (options.sort_modes) sort_modes(result);
   return result;
 }
 

@@ -43,6 +43,10 @@ struct EmStartingPoint {
   MixtureParameters mixture;
 };
 
+// A weight_tolerance no change of a weight reaches: the paper's rule off, the likelihood's alone
+// stops EM (for fits whose likelihood is all that is read).
+inline constexpr double kWeightRuleOff = 2.0;
+
 struct EmTrainOptions {
   int modes = 2;
   MStep m_step = MStep::Exact;
@@ -64,6 +68,9 @@ struct EmTrainOptions {
   EmAcceleration acceleration = EmAcceleration::Squarem;
   // When set, EM starts here instead of at `initialization`; its mixture must have `modes` modes.
   std::optional<EmStartingPoint> start;
+  // The modes ordered by their means at the end, so that a result does not depend on label
+  // switching; false keeps the start's order (for a caller that names modes by index).
+  bool sort_modes = true;
 };
 
 // One row of the convergence record (the paper's Fig. 13).

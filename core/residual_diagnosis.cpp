@@ -67,10 +67,9 @@ Eigen::VectorXd nearest_mode_deviation(const Eigen::VectorXd& residual,
 // nats per range an iteration (4e-5 nats on a half of that record: 78-199 iterations there),
 // which leaves the null's likelihood 0.06-0.16 nats below where the cap of 500 left it (the
 // crawl had not ended there either), against the test's threshold of log(9 / 0.05) = 5.2 nats.
-// No weight moves by more than 1: the weights' rule is off.
+// The weights' rule is off (kWeightRuleOff).
 constexpr int kExtraModeMaxIterations = 500;
 constexpr double kExtraModeLogLikelihoodTolerance = 1e-9;
-constexpr double kWeightRuleOff = 2.0;
 
 // The (M)-mode and (M+1)-mode mixtures of one half, by the paper's EM with no bias columns;
 // no value when EM cannot keep that many modes populated.

@@ -229,6 +229,60 @@ TEST(ExtendedEm, RecoversBinWeightsVariancesAndBias) {
   EXPECT_NEAR(std::sqrt(fit.model.variance_bins->table(1, 1)), 1.4, 0.05);
 }
 
+// A plain mixture with bias columns beside H runs on the training's fused sweep: the same ECM
+// iteration as the generic one (plain EM: the same log-likelihood at every iteration, the same
+// fixed point), the modes kept in the start's order even where that order is not the means'
+// (the model search names modes by index), and under SQUAREM the same maximum.
+TEST(ExtendedEm, PlainMixtureOnTheFusedSweepIsTheGenericIteration) {
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Index k = 6000;
+  Eigen::MatrixXd h(k, 2);
+  Eigen::VectorXd y(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    h(i, 0) = u(rng) - 0.5;
+    h(i, 1) = std::exp(-static_cast<double>(i % 1500) / 200.0);  // a warm-up column
+    const bool second = u(rng) < 0.35;
+    y[i] = 1.2 * h(i, 0) + 0.9 * h(i, 1) + (second ? -1.0 : 1.6) + (second ? 0.9 : 0.7) * n(rng);
+  }
+  // Mode 1 starts at the larger mean: a sort by means would swap the modes.
+  MixtureParameters m;
+  m.mean = Eigen::Vector2d(1.0, -0.5);
+  m.variance = Eigen::Vector2d(1.0, 1.0);
+  m.weight = Eigen::Vector2d(0.5, 0.5);
+  const ExtendedParameters start = start_at(Eigen::VectorXd::Zero(2), without_extensions(m));
+  const ExtendedDesign d = design(h, 2, Eigen::VectorXi::Zero(k));
+  for (const EmAcceleration acceleration : {EmAcceleration::None, EmAcceleration::Squarem}) {
+    ExtendedEmOptions fused;
+    fused.acceleration = acceleration;
+    fused.log_likelihood_tolerance = 1e-12;
+    ExtendedEmOptions generic = fused;
+    generic.fused_plain_mixture = false;
+    const ExtendedEmResult a = train_extended_em(d, y, start, fused);
+    const ExtendedEmResult b = train_extended_em(d, y, start, generic);
+    ASSERT_TRUE(a.converged);
+    ASSERT_TRUE(b.converged);
+    EXPECT_NEAR(a.log_likelihood, b.log_likelihood, 1e-6);
+    EXPECT_LE((a.fit.theta - b.fit.theta).cwiseAbs().maxCoeff(), 1e-5);
+    EXPECT_LE((a.fit.model.modes.mean - b.fit.model.modes.mean).cwiseAbs().maxCoeff(), 1e-5);
+    EXPECT_LE((a.fit.model.modes.variance - b.fit.model.modes.variance).cwiseAbs().maxCoeff(), 1e-5);
+    EXPECT_LE((a.fit.model.modes.weight - b.fit.model.modes.weight).cwiseAbs().maxCoeff(), 1e-5);
+    EXPECT_GT(a.fit.model.modes.mean[0], a.fit.model.modes.mean[1]);  // the start's order
+    EXPECT_NEAR(a.fit.theta[0], 1.2, 0.1);
+    EXPECT_EQ(a.responsibilities.mode.rows(), k);
+    EXPECT_EQ(a.responsibilities.outlier.size(), k);
+    if (acceleration == EmAcceleration::None) {
+      ASSERT_EQ(a.log_likelihood_trace.size(), b.log_likelihood_trace.size());
+      for (std::size_t i = 0; i < a.log_likelihood_trace.size(); ++i) {
+        EXPECT_NEAR(a.log_likelihood_trace[i], b.log_likelihood_trace[i],
+                    1e-9 * std::abs(b.log_likelihood_trace[i]))
+            << i;
+      }
+    }
+  }
+}
+
 TEST(ExtendedEm, RecoversTheOutlierWeight) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
