@@ -1,14 +1,22 @@
 #include "calibration/compensation.hpp"
 
+#include <utility>
+
 #include "calibration/covariates.hpp"
 #include "core/em_test.hpp"
 
 namespace tofcomp::calibration {
 
 Compensation compensate(const MeasuredData& data, const core::Calibration& calibration) {
+  return compensate(data, calibration,
+                    junction_at_ranges(data, calibration.thermal, calibration.kalman_noise,
+                                       calibration.ambient_c));
+}
+
+Compensation compensate(const MeasuredData& data, const core::Calibration& calibration,
+                        SmoothedJunction junction) {
   Compensation out;
-  out.junction = junction_at_ranges(data, calibration.thermal, calibration.kalman_noise,
-                                    calibration.ambient_c);
+  out.junction = std::move(junction);
   out.bias_mm = calibration.model.bias(out.junction.junction_c);
   out.noise_state = Eigen::VectorXi::Zero(data.range_mm.size());
   if (calibration.extension) {

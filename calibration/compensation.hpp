@@ -21,6 +21,9 @@ struct Compensation {
   Eigen::MatrixXd mode_shift;
 };
 Compensation compensate(const MeasuredData& data, const core::Calibration& calibration);
+// The same on a junction already smoothed under the calibration's thermal model and noise.
+Compensation compensate(const MeasuredData& data, const core::Calibration& calibration,
+                        SmoothedJunction junction);
 
 // log p(y − d | calibration) over the ranges of data with a known distance: the held-out
 // criterion of an extension.

@@ -110,7 +110,7 @@ class Evaluator {
         warm_ = core::EmStartingPoint{result.theta, result.mixture};
       }
     } catch (const core::Error&) {
-        if (required) throw;
+      if (required) throw;
       point.ranges_log_likelihood = kMinusInfinity;
     }
     fit.evaluated.push_back(point);

@@ -58,7 +58,8 @@ Base base_model(const calibration::MeasuredData& measured, const SearchSettings&
 // The grammar's covariates at each range and the base model's centred residual y − d − Hθ̂ − Σ π μ.
 void write_covariates(const calibration::MeasuredData& measured, const Base& base,
                       const std::string& file) {
-  const calibration::Compensation compensation = calibration::compensate(measured, base.calibration);
+  const calibration::Compensation compensation =
+      calibration::compensate(measured, base.calibration, base.junction);
   const Eigen::VectorXd residual =
       (measured.range_mm - measured.true_range_mm - compensation.bias_mm).array() -
       base.calibration.model.mixture.mean_offset();

@@ -106,7 +106,8 @@ double iterate_distance(double d, const EmTestOptions& options, EmTestResult& re
       const Eigen::Matrix<double, 1, 1> r(d1 - d0), v(d2 - 2.0 * d1 + d0);
       const double alpha = steps.step_length(r, v);
       if (alpha > 1.0) {
-        const double jump = d0 + 2.0 * alpha * r[0] + alpha * alpha * v[0];
+        const double jump =
+            SquaremSteps::extrapolate(Eigen::Matrix<double, 1, 1>(d0), r, v, alpha)[0];
         double jump_log_likelihood = -std::numeric_limits<double>::infinity();
         try {
           jump_log_likelihood = e_step(jump);

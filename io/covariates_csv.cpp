@@ -11,23 +11,14 @@
 namespace tofcomp::io {
 namespace {
 
-// A covariate's unit as a column name's suffix (ASCII).
+// A covariate's unit (core::covariate_unit) as a column name's suffix, in ASCII: "°C" → "c",
+// "°C/min" → "c_per_min".
 std::string unit_suffix(core::Covariate c) {
-  switch (c) {
-    case core::Covariate::JunctionTemperature:
-    case core::Covariate::Ambient:
-    case core::Covariate::JunctionLag:
-      return "c";
-    case core::Covariate::HeatingRate:
-      return "c_per_min";
-    case core::Covariate::TimeSincePowerOn:
-      return "s";
-    case core::Covariate::Time:
-      return "h";
-    case core::Covariate::None:
-      break;
-  }
-  return "";
+  std::string unit = core::covariate_unit(c);
+  const std::string degrees = "°C";
+  if (const auto at = unit.find(degrees); at != std::string::npos) unit.replace(at, degrees.size(), "c");
+  if (const auto at = unit.find('/'); at != std::string::npos) unit.replace(at, 1, "_per_");
+  return unit;
 }
 
 struct Column {
