@@ -14,7 +14,6 @@
 #include "core/error.hpp"
 #include "core/gaussian_mixture.hpp"
 #include "core/sign_flip_max_t.hpp"
-#include "core/statistical_tests.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -54,13 +53,10 @@ Eigen::VectorXd block_sums(const Eigen::VectorXd& values) {
 // (t, p); (0, 1) when `point` has no fit.
 std::pair<double, double> block_gain_test(const JunctionDynamicsPoint& point,
                                           const JunctionDynamicsPoint& reference) {
-  if (point.block_log_likelihood.size() != reference.block_log_likelihood.size() ||
-      point.block_log_likelihood.size() < 2) {
-    return {0.0, 1.0};
-  }
-  const double t = core::SignFlipMaxT::t_statistic(point.block_log_likelihood -
-                                                   reference.block_log_likelihood);
-  return {t, core::student_upper_tail(t, static_cast<double>(point.block_log_likelihood.size()) - 1.0)};
+  if (point.block_log_likelihood.size() != reference.block_log_likelihood.size()) return {0.0, 1.0};
+  const core::BlockGainTest test =
+      core::block_gain_t_test(point.block_log_likelihood - reference.block_log_likelihood);
+  return {test.t, test.p};
 }
 
 // Evaluates points of the search, each EM fit warm-started from the last successful one.

@@ -298,6 +298,10 @@ void score_held_out(const SearchData& data, const FoldModel& model,
   scores(held_out) = s;
 }
 
+// Held-out gains of two candidates closer than this share of the named one's are one model's
+// (they differ by rounding).
+constexpr double kRoundingGainShare = 1e-9;
+
 // P(T ≥ t) for Student's T with runs − 1 degrees of freedom.
 double one_sided_p(double t, double runs) { return core::student_upper_tail(t, runs - 1.0); }
 
@@ -323,9 +327,9 @@ BlockTest block_test(const Eigen::VectorXd& gain, const Folds& folds) {
   out.run_gains = Eigen::Map<const Eigen::VectorXd>(runs.data(), static_cast<Eigen::Index>(runs.size()));
   if (out.run_gains.size() < 2) return out;
   out.gain = out.run_gains.sum();
-  out.t = core::SignFlipMaxT::t_statistic(out.run_gains);
-  const double n = static_cast<double>(out.run_gains.size());
-  out.p = one_sided_p(out.t, n);
+  const core::BlockGainTest test = core::block_gain_t_test(out.run_gains);
+  out.t = test.t;
+  out.p = test.p;
   return out;
 }
 
@@ -429,6 +433,14 @@ std::optional<core::Term> carried_outliers(const core::Calibration& base) {
 }
 
 }  // namespace
+
+std::vector<const CandidateResult*> SearchStep::not_told_apart() const {
+  std::vector<const CandidateResult*> out;
+  for (const CandidateResult& c : candidates) {
+    if (c.not_told_apart_from_named()) out.push_back(&c);
+  }
+  return out;
+}
 
 std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariates, int modes) {
   using core::Covariate;
@@ -629,6 +641,23 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     result.candidates_per_step = std::max(result.candidates_per_step, static_cast<int>(fitted_count));
     const CandidateResult* named = s.named();
     if (named) {
+      // Each other candidate fitted to convergence against the named one, run by run.
+      for (std::size_t j = 1; j < order.size(); ++j) {
+        CandidateResult& r = s.candidates[j];
+        const Eigen::VectorXd& mine = run_gains[order[j]];
+        const Eigen::VectorXd& named_runs = run_gains[order.front()];
+        if (!r.ok() || r.screened_only || mine.size() != named_runs.size()) continue;
+        Eigen::VectorXd difference = named_runs - mine;
+        // One model reached by two terms (the same design) differs by rounding alone, which a t
+        // statistic, blind to scale, would read as a difference of consistent sign.
+        if (difference.cwiseAbs().sum() <= kRoundingGainShare * named_runs.cwiseAbs().sum()) {
+          difference.setZero();
+        }
+        const core::BlockGainTest test = core::block_gain_t_test(difference);
+        r.compared_with_named = true;
+        r.t_below_named = test.t;
+        r.p_below_named = test.p;
+      }
       // The family-wise level (model_search.hpp): the null law of the largest t over every
       // candidate of the step, those fitted to convergence by their final gains, the others by
       // their screen's.

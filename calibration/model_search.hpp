@@ -75,6 +75,10 @@ struct ModelSearchOptions {
   static constexpr int kRefinedCandidates = 4;
 };
 
+// The level at which a candidate is told apart from the named one: the named candidate's
+// held-out gain over it, run by run, one-sided.
+inline constexpr double kToldApartLevel = 0.05;
+
 struct CandidateResult {
   core::Term term;    // as fitted on the first fold (its τ there)
   std::string error;  // why it could not be fitted; empty when it was
@@ -83,7 +87,17 @@ struct CandidateResult {
   double t_statistic = 0.0;  // of the blocks' gains
   double p_value = 1.0;      // one-sided, Student's t with blocks − 1 degrees of freedom
   bool screened_only = false;  // the figures are the screen's short fit's (not fitted to the end)
+  // Beside the named candidate, when this one was fitted to convergence too: Student's t of the
+  // named one's held-out gain less this one's over the same runs, and its one-sided p. Above
+  // kToldApartLevel, these data do not tell this candidate from the named one: another
+  // explanation of the same misfit, as the paper's model sees it.
+  bool compared_with_named = false;
+  double t_below_named = 0.0;
+  double p_below_named = 1.0;
   bool ok() const { return error.empty(); }
+  bool not_told_apart_from_named() const {
+    return compared_with_named && p_below_named > kToldApartLevel;
+  }
 };
 
 // d̂'s mean absolute error on held-out windows of one length before and after a term.
@@ -109,6 +123,8 @@ struct SearchStep {
   const CandidateResult* named() const {
     return !candidates.empty() && candidates.front().ok() ? &candidates.front() : nullptr;
   }
+  // The candidates these data do not tell from the named one, in rank order.
+  std::vector<const CandidateResult*> not_told_apart() const;
 };
 
 struct ModelSearchResult {

@@ -17,6 +17,7 @@
 #include "cli/report_options.hpp"
 #include "cli/search_format.hpp"
 #include "cli/shared_options.hpp"
+#include "cli/structure_format.hpp"
 #include "io/atomic_file.hpp"
 #include "io/calibration_file.hpp"
 #include "io/covariates_csv.hpp"
@@ -35,6 +36,7 @@ struct SearchSettings {
 struct Base {
   core::Calibration calibration;
   calibration::SmoothedJunction junction;
+  std::optional<core::StructureChoice> structure;  // when training chose it from the data
 };
 
 Base base_model(const calibration::MeasuredData& measured, const SearchSettings& s,
@@ -47,12 +49,12 @@ Base base_model(const calibration::MeasuredData& measured, const SearchSettings&
         measured, settings, nullptr, [&](double share, const std::string& stage) {
           progress.update(0.2 * share, stage);
         });
-    return {std::move(t.calibration), std::move(t.junction)};
+    return {std::move(t.calibration), std::move(t.junction), std::move(t.structure)};
   }
   core::Calibration c = io::read_calibration_file(s.calibration);
   calibration::SmoothedJunction junction =
       calibration::junction_at_ranges(measured, c.thermal, c.kalman_noise, c.ambient_c);
-  return {std::move(c), std::move(junction)};
+  return {std::move(c), std::move(junction), std::nullopt};
 }
 
 // The grammar's covariates at each range and the base model's centred residual y − d − Hθ̂ − Σ π μ.
@@ -113,11 +115,14 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       const core::Diagnosis tests = calibration::diagnose(measured, base.calibration);
       progress.done();
 
+      const core::StructureChoice* structure = base.structure ? &*base.structure : nullptr;
       CommandResult result;
       result.json = {{"search", to_json(search, options)},
                      {"named", kept_names(search)},
-                     {"findings", to_json(tests)}};
+                     {"findings", to_json(tests)},
+                     {"trained_model", trained_model_json(base.calibration, structure)}};
       result.text = search_text(search, options);
+      result.text += trained_model_text(base.calibration, structure);
       result.text += "\nevidence: the residual tests of the trained model\n";
       result.text += diagnosis_text(tests);
       if (!search.kept.empty() && !s->calibration_output.empty()) {

@@ -33,6 +33,10 @@ nlohmann::json candidate_json(const calibration::CandidateResult& c) {
   out["t"] = c.t_statistic;
   out["p_value"] = c.p_value;
   out["screened_only"] = c.screened_only;
+  if (c.compared_with_named) {
+    out["t_below_named"] = c.t_below_named;
+    out["p_below_named"] = c.p_below_named;
+  }
   return out;
 }
 
@@ -78,7 +82,12 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
   for (const auto& s : search.steps) {
     nlohmann::json candidates = nlohmann::json::array();
     for (const auto& c : s.candidates) candidates.push_back(candidate_json(c));
+    nlohmann::json alike = nlohmann::json::array();
+    for (const calibration::CandidateResult* c : s.not_told_apart()) {
+      alike.push_back(label_json(c->term));
+    }
     steps.push_back({{"kept", s.kept},
+                     {"not_told_apart", alike},
                      {"critical_t", s.critical_t},
                      {"critical_p", s.critical_p},
                      {"family_wise_p", s.family_wise_p},
@@ -155,6 +164,16 @@ std::string search_text(const calibration::ModelSearchResult& search,
         i + 1, core::effect_name(named->term.label()), named->term.describe(),
         named->held_out_gain, named->gain_per_range, named->t_statistic, named->p_value,
         s.kept ? ">" : "<=", s.critical_t, s.family_wise_p, s.kept ? "kept" : "not kept");
+    const std::vector<const calibration::CandidateResult*> alike = s.not_told_apart();
+    if (!alike.empty()) {
+      text += fmt::format(
+          "    not told apart from it on these data (its gain over each, run by run, p > {:g}):\n",
+          calibration::kToldApartLevel);
+      for (const calibration::CandidateResult* c : alike) {
+        text += fmt::format("      {} ({}): t {:.2f}, p {:.2g}\n", core::effect_name(c->term.label()),
+                            c->term.describe(), c->t_below_named, c->p_below_named);
+      }
+    }
     text += errors_text(s.errors);
   }
   if (!search.errors.empty()) {

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <map>
+
 namespace tofcomp::cli {
 namespace {
 
@@ -13,6 +15,17 @@ const char* mark(int index, const core::StructureChoice& choice) {
   if (index == choice.chosen) return "chosen";
   if (index == choice.best_by_held_out) return "best held-out";
   return "";
+}
+
+// The best held-out log-likelihood per range at each number of modes the search tried.
+std::map<int, double> best_held_out_by_modes(const core::StructureChoice& choice) {
+  std::map<int, double> out;
+  for (const core::CandidateEvidence& e : choice.candidates) {
+    if (!e.ok) continue;
+    const auto [at, inserted] = out.emplace(e.modes, e.held_out_log_likelihood);
+    if (!inserted) at->second = std::max(at->second, e.held_out_log_likelihood);
+  }
+  return out;
 }
 
 }  // namespace
@@ -211,6 +224,51 @@ std::string choices_text(const calibration::Training& training) {
     out += calibration::gross_errors_note(training.gross_errors) + "\n";
   }
   return out;
+}
+
+std::string trained_model_text(const core::Calibration& calibration,
+                               const core::StructureChoice* choice) {
+  const core::MixtureParameters& m = calibration.model.mixture;
+  std::string out = fmt::format("the trained model (the search's start): basis {}, {} {}",
+                                calibration.model.basis.describe(), m.modes(),
+                                m.modes() == 1 ? "mode" : "modes");
+  if (choice == nullptr) {
+    out += " (as given)\n";
+  } else {
+    out += " (chosen from the data, §7); the best held-out log-likelihood per range with";
+    for (const auto& [modes, best] : best_held_out_by_modes(*choice)) {
+      out += fmt::format(" {} {}: {:.4f};", modes, modes == 1 ? "mode" : "modes", best);
+    }
+    out.back() = '\n';
+  }
+  for (int i = 0; i < m.modes(); ++i) {
+    out += fmt::format("  mode {}: offset {:+.3f} mm, std {:.3f} mm, weight {:.3f}\n", i + 1,
+                       m.mean[i], std::sqrt(m.variance[i]), m.weight[i]);
+  }
+  return out;
+}
+
+nlohmann::json trained_model_json(const core::Calibration& calibration,
+                                  const core::StructureChoice* choice) {
+  const core::MixtureParameters& m = calibration.model.mixture;
+  nlohmann::json modes = nlohmann::json::array();
+  for (int i = 0; i < m.modes(); ++i) {
+    modes.push_back({{"offset_mm", m.mean[i]},
+                     {"std_mm", std::sqrt(m.variance[i])},
+                     {"weight", m.weight[i]}});
+  }
+  nlohmann::json by_modes = nullptr;
+  if (choice != nullptr) {
+    by_modes = nlohmann::json::object();
+    for (const auto& [count, best] : best_held_out_by_modes(*choice)) {
+      by_modes[std::to_string(count)] = best;
+    }
+  }
+  return {{"basis", calibration.model.basis.describe()},
+          {"modes", m.modes()},
+          {"mixture", modes},
+          {"chosen_from_data", choice != nullptr},
+          {"best_held_out_log_likelihood_by_modes", by_modes}};
 }
 
 }  // namespace tofcomp::cli

@@ -23,4 +23,13 @@ std::string junction_dynamics_text(const calibration::JunctionDynamicsFit& fit);
 // All three, or a line saying each was given.
 std::string choices_text(const calibration::Training& training);
 
+// The model `diagnose` searches from: Eq. 8's basis and modes and, when training chose the
+// structure (`choice` not null), the best held-out log-likelihood per range at each number of
+// modes, so that a mode the structure took in (a mode the data carry beyond the expected ones)
+// shows there and not among the search's terms.
+std::string trained_model_text(const core::Calibration& calibration,
+                               const core::StructureChoice* choice);
+nlohmann::json trained_model_json(const core::Calibration& calibration,
+                                  const core::StructureChoice* choice);
+
 }  // namespace tofcomp::cli

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/statistical_tests.hpp"
 #include "core/validation.hpp"
 
 namespace tofcomp::core {
@@ -36,6 +37,12 @@ double SignFlipMaxT::t_statistic(const Eigen::Ref<const Eigen::VectorXd>& values
   const double variance = (values.array() - mean).square().sum() / (n - 1.0);
   if (!(variance > 0.0)) return mean > 0.0 ? kInfinity : 0.0;
   return mean / std::sqrt(variance / n);
+}
+
+BlockGainTest block_gain_t_test(const Eigen::Ref<const Eigen::VectorXd>& block_gains) {
+  if (block_gains.size() < 2) return {};
+  const double t = SignFlipMaxT::t_statistic(block_gains);
+  return {t, student_upper_tail(t, static_cast<double>(block_gains.size()) - 1.0)};
 }
 
 SignFlipMaxT::SignFlipMaxT(const Eigen::Ref<const Eigen::MatrixXd>& block_values, int draws) {

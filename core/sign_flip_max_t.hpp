@@ -23,6 +23,15 @@
 
 namespace tofcomp::core {
 
+// One gain summed over independent blocks, tested against zero: the one-sided t statistic of
+// SignFlipMaxT::t_statistic and P(T ≥ t) under Student's t with blocks − 1 degrees of freedom
+// (t 0, p 1 with fewer than two blocks). A candidate's own test, beside the family-wise one.
+struct BlockGainTest {
+  double t = 0.0;
+  double p = 1.0;
+};
+BlockGainTest block_gain_t_test(const Eigen::Ref<const Eigen::VectorXd>& block_gains);
+
 // The null law of the largest t over the candidates.
 class SignFlipMaxT {
  public:

@@ -294,6 +294,65 @@ TEST(ModelSearch, GivesTheSerialResultOnAnyNumberOfThreads) {
   EXPECT_FALSE(serial.kept.empty());  // the warm-up is kept: the comparison covers a kept step
 }
 
+// Which candidates the data tell from the named one, with every candidate fitted to
+// convergence, on a time drift: with no power log the time since power-on is the time since
+// the record began, so the smooth bias terms of the two are one model (the same gain on every
+// run: not told apart, t 0); a
+// candidate that gains nothing on held-out ranges while the named one gains clearly is told
+// apart; the named one is not compared with itself.
+TEST(ModelSearch, TellsApartWhatTheDataTellApart) {
+  Record r = draw_record(Injected::TimeDrift, 103);
+  // No power log: the time since power-on is the time since the record began.
+  r.data.power_changes.clear();
+  ModelSearchOptions options;
+  options.threads = 2;
+  options.refined_candidates = 0;
+  options.max_steps = 1;
+  const ModelSearchResult s = search_model(r.data, r.calibration, r.junction, options);
+  ASSERT_EQ(s.steps.size(), 1u);
+  const SearchStep& step = s.steps.front();
+  const CandidateResult* named = step.named();
+  ASSERT_NE(named, nullptr);
+  ASSERT_GT(named->t_statistic, step.critical_t) << named->term.describe();
+  EXPECT_FALSE(named->compared_with_named);
+  const auto find = [&](core::Covariate covariate) -> const CandidateResult* {
+    for (const CandidateResult& c : step.candidates) {
+      if (c.term.parameter == core::Parameter::Bias && c.term.covariate == covariate &&
+          c.term.form == core::Form::Smooth) {
+        return &c;
+      }
+    }
+    return nullptr;
+  };
+  const CandidateResult* by_time = find(core::Covariate::Time);
+  const CandidateResult* by_time_on = find(core::Covariate::TimeSincePowerOn);
+  ASSERT_TRUE(by_time && by_time_on);
+  EXPECT_NEAR(by_time->held_out_gain, by_time_on->held_out_gain,
+              1e-6 * std::abs(by_time->held_out_gain));
+  // Whichever is named, the other is not told apart from it.
+  const CandidateResult* other = named == by_time ? by_time_on : named == by_time_on ? by_time : nullptr;
+  if (other != nullptr) {
+    EXPECT_TRUE(other->not_told_apart_from_named());
+    EXPECT_NEAR(other->t_below_named, 0.0, 1e-6);
+  }
+  int told_apart = 0;
+  for (const CandidateResult& c : step.candidates) {
+    if (&c == named || !c.ok()) continue;
+    EXPECT_TRUE(c.compared_with_named) << c.term.describe();
+    if (c.held_out_gain <= 0.0) {
+      EXPECT_FALSE(c.not_told_apart_from_named()) << c.term.describe();
+      ++told_apart;
+    }
+  }
+  EXPECT_GT(told_apart, 0);
+  // The step's list holds exactly the candidates not told apart, in rank order.
+  std::vector<const CandidateResult*> expected;
+  for (const CandidateResult& c : step.candidates) {
+    if (c.not_told_apart_from_named()) expected.push_back(&c);
+  }
+  EXPECT_EQ(step.not_told_apart(), expected);
+}
+
 TEST(ModelSearch, RefusesARecordTooShortForTheFolds) {
   Record r = draw_record(Injected::None, 7, 1);
   const Eigen::Index keep = 15;

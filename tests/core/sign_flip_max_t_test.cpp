@@ -30,6 +30,24 @@ Eigen::MatrixXd normal_blocks(Eigen::Index blocks, Eigen::Index candidates, doub
   return g;
 }
 
+// One candidate's own test against closed forms: gains 1, 2, 3 have mean 2 and sd 1, so
+// t = 2√3; with two degrees of freedom P(T ≥ t) = (1 − t / √(t² + 2)) / 2.
+TEST(BlockGainTTest, MatchesStudentsClosedForm) {
+  const Eigen::Vector3d gains(1.0, 2.0, 3.0);
+  const BlockGainTest test = block_gain_t_test(gains);
+  const double t = 2.0 * std::sqrt(3.0);
+  EXPECT_NEAR(test.t, t, 1e-12);
+  EXPECT_NEAR(test.p, 0.5 * (1.0 - t / std::sqrt(t * t + 2.0)), 1e-12);
+  // A gain on no block, or one: nothing to test.
+  const BlockGainTest none = block_gain_t_test(Eigen::VectorXd::Constant(1, 5.0));
+  EXPECT_EQ(none.t, 0.0);
+  EXPECT_EQ(none.p, 1.0);
+  // Equal gains on every block (a candidate identical to another): t 0, p one half.
+  const BlockGainTest same = block_gain_t_test(Eigen::VectorXd::Zero(10));
+  EXPECT_EQ(same.t, 0.0);
+  EXPECT_NEAR(same.p, 0.5, 1e-12);
+}
+
 TEST(SignFlipMaxT, OneCandidateGivesStudentsQuantile) {
   std::mt19937_64 rng(1);
   const Eigen::MatrixXd g = normal_blocks(200, 1, 0.0, rng);
