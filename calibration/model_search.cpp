@@ -548,6 +548,9 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
                    options.resolution, held_scores);
   });
+  result.base_held_out_log_likelihood = held_scores.sum();
+  result.scored_ranges = static_cast<Eigen::Index>(
+      std::count(folds.is_scored.begin(), folds.is_scored.end(), true));
   const WindowErrors training_errors =
       window_errors_of(search_data, held, folds, options, threads);
   WindowErrors held_errors = training_errors;
@@ -710,6 +713,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   }
   result.errors = compare_held_out(training_errors, held_errors, held[0].fit.model.modes, folds,
                                    options);
+  result.final_held_out_log_likelihood = held_scores.sum();
   report(1.0, "done");
   return result;
 }

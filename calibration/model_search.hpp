@@ -135,6 +135,13 @@ struct ModelSearchResult {
   int carried_from_training = 0;
   core::Calibration calibration;      // the training's model with the kept terms, on all the data
   std::vector<HeldOutError> errors;   // the training's model against the final one
+  // Σ over the scored ranges of their held-out log-likelihood (each scored by the fold that
+  // left it out): under the training's model and under the final one. A range is scored when
+  // its junction temperature lies inside the other fold's (no extrapolation), so the count
+  // depends on the junction estimate: compare two searches per scored range, not by the sums.
+  double base_held_out_log_likelihood = 0.0;
+  double final_held_out_log_likelihood = 0.0;
+  Eigen::Index scored_ranges = 0;
   Eigen::Index block = 0;             // ranges per block
   Eigen::Index blocks = 0;
   int candidates_per_step = 0;

@@ -317,8 +317,9 @@ def evaluate(truths, runs):
         k["named_right_first"] += s["named_right"]
         k["named_anywhere"] += t in s["kept"]
         k["best_right"] += s["best"] == t
-        # The first named (kept or not) is the truth, or the data do not tell the truth from it.
-        k["right_or_alike"] += s["best"] == t or t in s.get("alike", [])
+        # Named right first, or the first step's named (kept or not) is the truth, or the data do
+        # not tell the truth from it.
+        k["right_or_alike"] += s["named_right"] or s["best"] == t or t in s.get("alike", [])
         k["nothing"] += not s["kept"]
     per_kind = {l: per_kind[l] for l in ordered(list(per_kind))}
 

@@ -3,7 +3,8 @@
 # twin's data drawn with three lasing modes (tests/cli/three-modes.yaml; the default scenario has
 # two), the trained model has three modes chosen from the data, with the twin's spreads, weights
 # and gaps between offsets (the common offset is θ's, not the modes'), three modes predicting
-# held-out ranges better than two; the text says the same as the JSON. Then from a calibration
+# held-out ranges better than two, and the held-out log-likelihood per scored range the twin's
+# own (minus the entropy of its rounded ranges); the text says the same as the JSON. Then from a calibration
 # trained with --modes 2: two modes, as given.
 set -euo pipefail
 tofcomp=$1
@@ -43,6 +44,24 @@ for i in range(2):
     gap, true_gap = (fitted[i + 1]["offset_mm"] - fitted[i]["offset_mm"],
                      truth[i + 1]["offset_mm"] - truth[i]["offset_mm"])
     expect(abs(gap - true_gap) < 0.3, f"gap between modes {i + 1} and {i + 2}: {gap} vs {true_gap}")
+
+# The held-out log-likelihood per scored range is the twin's: minus the entropy of its rounded
+# ranges (the mixture shifted by a uniform fraction of a mm, as d + Hθ falls between whole mm).
+import math
+def rounded_probability(k, shift):
+    cdf = lambda x, m: sum(m_["weight"] * 0.5 * (1 + math.erf((x - m_["offset_mm"]) / (m_["std_mm"] * math.sqrt(2)))) for m_ in m)
+    return cdf(k + 0.5 - shift, truth) - cdf(k - 0.5 - shift, truth)
+shifts = [(i + 0.5) / 20 for i in range(20)]
+expected = sum(sum(p * math.log(p) for p in (rounded_probability(k, u) for k in range(-30, 31)) if p > 0)
+               for u in shifts) / len(shifts)
+search = json.load(open(f"{work}/chosen.json"))["search"]
+held = search["held_out_log_likelihood"]
+ranges = sum(1 for line in open(f"{work}/data.csv") if not line.startswith(("#", "time_s")) and line.split(",")[1])
+expect(ranges // 2 < held["scored_ranges"] <= ranges, f"{held['scored_ranges']} scored of {ranges} ranges")
+per_range = held["base"] / held["scored_ranges"]
+expect(abs(per_range - expected) < 0.03, f"held-out {per_range:.4f} nats a range, the twin's {expected:.4f}")
+if not search["kept"]:
+    expect(held["final"] == held["base"], "nothing kept, yet the final model scores otherwise")
 
 text = open(f"{work}/chosen.txt").read()
 line = next((l for l in text.splitlines() if l.startswith("the trained model")), "")
