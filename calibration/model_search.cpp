@@ -714,6 +714,8 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   result.errors = compare_held_out(training_errors, held_errors, held[0].fit.model.modes, folds,
                                    options);
   result.final_held_out_log_likelihood = held_scores.sum();
+  result.final_held_out_scores = held_scores;
+  result.scored = folds.is_scored;
   report(1.0, "done");
   return result;
 }

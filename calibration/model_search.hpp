@@ -142,6 +142,8 @@ struct ModelSearchResult {
   double base_held_out_log_likelihood = 0.0;
   double final_held_out_log_likelihood = 0.0;
   Eigen::Index scored_ranges = 0;
+  std::vector<bool> scored;              // per range
+  Eigen::VectorXd final_held_out_scores;  // per range under the final model; 0 where not scored
   Eigen::Index block = 0;             // ranges per block
   Eigen::Index blocks = 0;
   int candidates_per_step = 0;

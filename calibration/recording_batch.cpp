@@ -68,7 +68,13 @@ RecordingOutcome calibrate_one(const std::filesystem::path& recording, const Bat
     ModelSearchOptions search = settings.search;
     search.threads = threads;
     try {
-      out.search = search_model(data, out.training->calibration, out.training->junction, search);
+      ModelSearchResult searched =
+          search_model(data, out.training->calibration, out.training->junction, search);
+      TrainedSearch trained{std::move(*out.training), std::move(searched), std::nullopt};
+      trained = recheck_junction(data, training, search, std::move(trained));
+      out.training = std::move(trained.training);
+      out.search = std::move(trained.search);
+      out.junction_recheck = std::move(trained.junction_recheck);
     } catch (const core::Error& e) {
       out.search_error = e.what();
     }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "calibration/junction_recheck.hpp"
 #include "calibration/model_search.hpp"
 #include "calibration/training.hpp"
 
@@ -41,6 +42,7 @@ struct RecordingOutcome {
   std::optional<Training> training;
   std::string search_error;  // why the model search could not run; the training still stands
   std::optional<ModelSearchResult> search;
+  std::optional<JunctionRecheck> junction_recheck;  // when it ran (calibration/junction_recheck.hpp)
   double seconds = 0.0;  // wall clock of this recording's work
 
   bool calibrated() const { return training.has_value(); }

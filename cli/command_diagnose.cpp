@@ -8,9 +8,11 @@
 #include "calibration/covariates.hpp"
 #include "calibration/diagnosis.hpp"
 #include "calibration/junction_estimate.hpp"
+#include "calibration/junction_recheck.hpp"
 #include "calibration/model_search.hpp"
 #include "cli/command.hpp"
 #include "cli/findings_format.hpp"
+#include "cli/junction_recheck_format.hpp"
 #include "cli/kept_terms_note.hpp"
 #include "cli/number_checks.hpp"
 #include "cli/progress.hpp"
@@ -32,33 +34,49 @@ struct SearchSettings {
   int threads = 0;
 };
 
-// The paper's model the search starts from, and the smoothed junction temperature under it.
-struct Base {
+// The paper's model the search started from, the smoothed junction temperature under it, and
+// the search; with the junction re-checked when training chose it (calibration/junction_recheck.hpp).
+struct Searched {
   core::Calibration calibration;
   calibration::SmoothedJunction junction;
   std::optional<core::StructureChoice> structure;  // when training chose it from the data
+  calibration::ModelSearchResult search;
+  std::optional<calibration::JunctionRecheck> junction_recheck;
 };
 
-Base base_model(const calibration::MeasuredData& measured, const SearchSettings& s,
-                const calibration::TrainSettings& training, Progress& progress) {
-  if (s.calibration.empty()) {
-    progress.update(0.0, "training the paper's model");
-    calibration::TrainSettings settings = training;
-    settings.threads = s.threads;
-    calibration::Training t = calibration::train_calibration(
-        measured, settings, nullptr, [&](double share, const std::string& stage) {
-          progress.update(0.2 * share, stage);
-        });
-    return {std::move(t.calibration), std::move(t.junction), std::move(t.structure)};
+Searched search_from(const calibration::MeasuredData& measured, const SearchSettings& s,
+                     const calibration::TrainSettings& training,
+                     const calibration::ModelSearchOptions& options, Progress& progress) {
+  const auto searching = [&](double share, const std::string& stage) {
+    progress.update(0.2 + 0.7 * share, stage);
+  };
+  if (!s.calibration.empty()) {
+    core::Calibration c = io::read_calibration_file(s.calibration);
+    calibration::SmoothedJunction junction =
+        calibration::junction_at_ranges(measured, c.thermal, c.kalman_noise, c.ambient_c);
+    calibration::ModelSearchResult search =
+        calibration::search_model(measured, c, junction, options, searching);
+    return {std::move(c), std::move(junction), std::nullopt, std::move(search), std::nullopt};
   }
-  core::Calibration c = io::read_calibration_file(s.calibration);
-  calibration::SmoothedJunction junction =
-      calibration::junction_at_ranges(measured, c.thermal, c.kalman_noise, c.ambient_c);
-  return {std::move(c), std::move(junction), std::nullopt};
+  progress.update(0.0, "training the paper's model");
+  calibration::TrainSettings settings = training;
+  settings.threads = s.threads;
+  calibration::TrainedSearch trained;
+  trained.training = calibration::train_calibration(
+      measured, settings, nullptr,
+      [&](double share, const std::string& stage) { progress.update(0.2 * share, stage); });
+  trained.search = calibration::search_model(measured, trained.training.calibration,
+                                             trained.training.junction, options, searching);
+  trained = calibration::recheck_junction(
+      measured, settings, options, std::move(trained),
+      [&](double share, const std::string& stage) { progress.update(0.9 + 0.05 * share, stage); });
+  return {std::move(trained.training.calibration), std::move(trained.training.junction),
+          std::move(trained.training.structure), std::move(trained.search),
+          std::move(trained.junction_recheck)};
 }
 
 // The grammar's covariates at each range and the base model's centred residual y − d − Hθ̂ − Σ π μ.
-void write_covariates(const calibration::MeasuredData& measured, const Base& base,
+void write_covariates(const calibration::MeasuredData& measured, const Searched& base,
                       const std::string& file) {
   const calibration::Compensation compensation =
       calibration::compensate(measured, base.calibration, base.junction);
@@ -104,13 +122,9 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       const calibration::MeasuredData measured = data->load();
       measured.require_true_ranges();
       const calibration::ModelSearchOptions options = search_options->options(s->threads);
-      const Base base = base_model(measured, *s, training->settings(), progress);
+      const Searched base = search_from(measured, *s, training->settings(), options, progress);
+      const calibration::ModelSearchResult& search = base.search;
       if (!s->covariates_output.empty()) write_covariates(measured, base, s->covariates_output);
-      const calibration::ModelSearchResult search = calibration::search_model(
-          measured, base.calibration, base.junction, options,
-          [&](double share, const std::string& stage) {
-            progress.update(0.2 + 0.75 * share, stage);
-          });
       progress.update(0.95, "the residual tests");
       const core::Diagnosis tests = calibration::diagnose(measured, base.calibration);
       progress.done();
@@ -120,8 +134,12 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       result.json = {{"search", to_json(search, options)},
                      {"named", kept_names(search)},
                      {"findings", to_json(tests)},
-                     {"trained_model", trained_model_json(base.calibration, structure)}};
+                     {"trained_model", trained_model_json(base.calibration, structure)},
+                     {"junction_recheck", base.junction_recheck
+                                              ? to_json(*base.junction_recheck)
+                                              : nlohmann::json(nullptr)}};
       result.text = search_text(search, options);
+      if (base.junction_recheck) result.text += junction_recheck_text(*base.junction_recheck);
       result.text += trained_model_text(base.calibration, structure);
       result.text += "\nevidence: the residual tests of the trained model\n";
       result.text += diagnosis_text(tests);

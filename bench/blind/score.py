@@ -11,6 +11,7 @@ For every DIR/data/<id>.csv that has a truth DIR/truth/<id>.json it runs
     search.mae_mm.final / search.mae_mm.base   {"200": mm, "400": mm, "800": mm}
     trained_model.modes  (optional) the lasing modes of the model the search started from
     search.steps[0].not_told_apart  (optional) candidates the data do not tell from the first named
+    junction_recheck.chosen  (optional) which start a re-check of the junction kept, or null
 and prints how the detector did.  A non-zero exit, a timeout, output that is not JSON or a missing
 or malformed field is a failure of that run, listed with its stderr tail.  Exit status 0 once
 everything that could be scored was (the figures are the result), 2 on bad arguments.
@@ -83,7 +84,10 @@ def parse_output(stdout):
     mae = s.get("mae_mm")
     if not isinstance(mae, dict):
         raise ContractError("missing field: search.mae_mm")
-    out = {"kept": kept, "best": best, "modes": None, "alike": []}
+    out = {"kept": kept, "best": best, "modes": None, "alike": [], "recheck": None}
+    recheck = doc.get("junction_recheck")
+    if isinstance(recheck, dict) and isinstance(recheck.get("chosen"), str):
+        out["recheck"] = recheck["chosen"]
     steps = s.get("steps")
     if isinstance(steps, list) and steps and isinstance(steps[0], dict) and "not_told_apart" in steps[0]:
         alike = steps[0]["not_told_apart"]
@@ -273,7 +277,8 @@ def evaluate(truths, runs):
             row.update({"kept": res["kept"], "best": res["best"],
                         "first": res["kept"][0] if res["kept"] else NOTHING,
                         "mae_final": res["final"], "mae_base": res["base"],
-                        "modes": res["modes"], "alike": res["alike"]})
+                        "modes": res["modes"], "alike": res["alike"],
+                        "recheck": res["recheck"]})
         if rc is not None:
             row["counterpart_ok"] = rc["ok"]
             if not rc["ok"]:
@@ -282,6 +287,7 @@ def evaluate(truths, runs):
             else:
                 row.update({"counterpart_kept": rc["result"]["kept"],
                             "counterpart_modes": rc["result"]["modes"],
+                            "counterpart_recheck": rc["result"]["recheck"],
                             "counterpart_mae_final": rc["result"]["final"],
                             "counterpart_mae_base": rc["result"]["base"]})
         if r["ok"] and rc is not None and rc["ok"]:
@@ -378,6 +384,13 @@ def evaluate(truths, runs):
     return {"sets": sets, "confusion": confusion, "per_kind": per_kind, "clean": clean,
             "counterparts": counterparts, "pairs": pair_sum, "strength_tertiles": tert,
             "structure_took_in": took_in,
+            "junction_recheck": {
+                "runs": sum(1 for s in sets if s.get("recheck")) +
+                        sum(1 for s in sets if s.get("counterpart_recheck")),
+                "case_log_chosen": sum(1 for s in sets if s.get("recheck") == "case_log") +
+                                   sum(1 for s in sets if s.get("counterpart_recheck") == "case_log"),
+                "scored_runs": sum(1 for s in sets if s["ok"]) +
+                               sum(1 for s in sets if s.get("counterpart_ok"))},
             "mae_ratio": {"threshold": RATIO_OK, "rows": ratio_rows, "per_window": ratio_ok,
                           "all_windows_ok": all_ok, "n": len(ratio_rows),
                           "named_right_without_counterpart": named_right_no_ratio},
@@ -475,6 +488,11 @@ def render(rep):
                    "%d/%d; other effect sets (false alarms of that reading): %d/%d" % (
                        sum(r["more"] for r in ti["extra"]), len(ti["extra"]),
                        sum(r["more"] for r in ti["other"]), len(ti["other"])))
+
+    jr = rep.get("junction_recheck")
+    if jr and jr["runs"]:
+        out.append("\nJunction re-checked after a kept term on %d of %d runs; the case log's "
+                   "junction chosen on %d" % (jr["runs"], jr["scored_runs"], jr["case_log_chosen"]))
 
     out.append("\nFailures: %d" % len(rep["failures"]))
     for f in rep["failures"]:

@@ -1,0 +1,52 @@
+#include "cli/junction_recheck_format.hpp"
+
+#include <fmt/format.h>
+
+namespace tofcomp::cli {
+namespace {
+
+std::string names(const std::vector<core::Term>& terms) {
+  std::string out;
+  for (const core::Term& t : terms) out += (out.empty() ? "" : ", ") + core::effect_name(t.label());
+  return out.empty() ? "nothing" : out;
+}
+
+nlohmann::json start_json(const calibration::JunctionDynamics& d, const std::vector<core::Term>& kept) {
+  nlohmann::json terms = nlohmann::json::array();
+  for (const core::Term& t : kept) terms.push_back(t.describe());
+  return {{"rise_k", d.rise_k}, {"time_constant_s", d.time_constant_s}, {"kept", terms}};
+}
+
+}  // namespace
+
+nlohmann::json to_json(const calibration::JunctionRecheck& r) {
+  nlohmann::json out = {{"from_ranges", start_json(r.from_ranges, r.kept_from_ranges)},
+                        {"from_case_log", start_json(r.from_case_log, r.kept_from_case_log)},
+                        {"chosen", r.case_log_chosen ? "case_log" : "ranges"},
+                        {"error", r.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.error)}};
+  if (r.error.empty()) {
+    out["common_ranges"] = r.common_ranges;
+    out["from_ranges_per_range"] = r.from_ranges_per_range;
+    out["from_case_log_per_range"] = r.from_case_log_per_range;
+  }
+  return out;
+}
+
+std::string junction_recheck_text(const calibration::JunctionRecheck& r) {
+  std::string out = fmt::format(
+      "the junction re-checked: training took it from the ranges (rise {:.2f} K, {:.1f} s; the "
+      "case log's {:.2f} K, {:.1f} s) and the search kept {}; ",
+      r.from_ranges.rise_k, r.from_ranges.time_constant_s, r.from_case_log.rise_k,
+      r.from_case_log.time_constant_s, names(r.kept_from_ranges));
+  if (!r.error.empty()) return out + "from the case log's junction: " + r.error + "; the ranges' stands\n";
+  out += fmt::format(
+      "from the case log's it keeps {}; held-out log-likelihood per range ({} scored by both) "
+      "{:.4f} from the ranges', {:.4f} from the case log's: {}\n",
+      names(r.kept_from_case_log), r.common_ranges, r.from_ranges_per_range,
+      r.from_case_log_per_range,
+      r.case_log_chosen ? "the case log's junction is the start reported"
+                        : "the ranges' junction stands");
+  return out;
+}
+
+}  // namespace tofcomp::cli
