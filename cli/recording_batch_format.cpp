@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "cli/report_format.hpp"
+#include "cli/junction_recheck_format.hpp"
 #include "cli/search_format.hpp"
 
 namespace tofcomp::cli {
@@ -38,7 +39,10 @@ nlohmann::json recording_json(const calibration::RecordingOutcome& outcome,
                       {"training", nullptr},
                       {"search", nullptr},
                       {"search_error", outcome.search_error},
-                      {"named", nullptr}};
+                      {"named", nullptr},
+                      {"junction_recheck", outcome.junction_recheck
+                                               ? to_json(*outcome.junction_recheck)
+                                               : nlohmann::json(nullptr)}};
   if (outcome.training) {
     j["training"] = training_json(*outcome.training);
     const auto& trained = outcome.training->calibration.model.trained_junction_c;
