@@ -14,15 +14,9 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
-mkdir -p "$work/fleet/sub.csv" "$work/clean-source"
+mkdir -p "$work/fleet/sub.csv"
 "$tofcomp" -q simulate "$root/tests/cli/report-time-drift.yaml" -o "$work/fleet/scanner-a.csv"
-cat > "$work/clean-source/clean.yaml" <<YAML
-base: $root/config/scenarios/default.yaml
-name: clean-short
-power:
-  repeat: 4
-YAML
-"$tofcomp" -q simulate "$work/clean-source/clean.yaml" -o "$work/fleet/scanner-b.csv"
+"$tofcomp" -q simulate "$root/tests/cli/clean-short.yaml" -o "$work/fleet/scanner-b.csv"
 printf 'this is not a recording\n1,2,3\n' > "$work/fleet/scanner-0-broken.csv"
 echo "notes" > "$work/fleet/README.txt"
 

@@ -7,7 +7,7 @@
 # larger held-out log-likelihood per range over the ranges both scored; the search reported, the
 # trained model and the calibration written are that start's (its junction's P·R1 and R1·C1 in
 # the file); the warm-up is kept first, near the twin's amplitude and time constant. Then data
-# without an effect (the default scenario, shortened): nothing kept, so no re-check.
+# without an effect (tests/cli/clean-short.yaml): nothing kept, so no re-check.
 set -euo pipefail
 tofcomp=$1
 root=$2
@@ -16,13 +16,7 @@ trap 'rm -rf "$work"' EXIT
 
 "$tofcomp" -q simulate "$root/tests/cli/warm-up-slow-junction.yaml" -o "$work/warm.csv"
 "$tofcomp" -q diagnose "$work/warm.csv" --json --calibration-output "$work/warm.yaml" > "$work/warm.json"
-cat > "$work/clean.yaml" <<YAML
-base: $root/config/scenarios/default.yaml
-name: clean-short
-power:
-  repeat: 3
-YAML
-"$tofcomp" -q simulate "$work/clean.yaml" -o "$work/clean.csv"
+"$tofcomp" -q simulate "$root/tests/cli/clean-short.yaml" -o "$work/clean.csv"
 "$tofcomp" -q diagnose "$work/clean.csv" --json > "$work/clean.json"
 
 python3 - "$work" <<'PY'
