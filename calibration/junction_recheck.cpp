@@ -48,11 +48,17 @@ TrainedSearch recheck_junction(const MeasuredData& data, const TrainSettings& se
   TrainSettings case_log = settings;
   case_log.junction_from_ranges = false;
   try {
-    if (progress) progress(0.0, "re-checking the junction: training on the case log's");
-    Training training = train_calibration(data, case_log);
-    if (progress) progress(0.5, "re-checking the junction: the model search from the case log's");
+    // Progress: the training the first half, the search the second.
+    const auto stage = [&](double from, const char* what) {
+      return [&progress, from, what](double share, const std::string& detail) {
+        if (progress) progress(from + 0.5 * share, std::string(what) + detail);
+      };
+    };
+    Training training = train_calibration(
+        data, case_log, nullptr, stage(0.0, "re-checking the junction, the case log's: "));
     ModelSearchResult search =
-        search_model(data, training.calibration, training.junction, options);
+        search_model(data, training.calibration, training.junction, options,
+                     stage(0.5, "re-checking the junction, the search from the case log's: "));
     const CommonScores scores = common_scores(trained.search, search);
     recheck.kept_from_case_log = search.kept;
     recheck.common_ranges = scores.ranges;

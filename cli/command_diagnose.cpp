@@ -48,7 +48,7 @@ Searched search_from(const calibration::MeasuredData& measured, const SearchSett
                      const calibration::TrainSettings& training,
                      const calibration::ModelSearchOptions& options, Progress& progress) {
   const auto searching = [&](double share, const std::string& stage) {
-    progress.update(0.2 + 0.7 * share, stage);
+    progress.update(0.2 + 0.6 * share, stage);
   };
   if (!s.calibration.empty()) {
     core::Calibration c = io::read_calibration_file(s.calibration);
@@ -69,7 +69,7 @@ Searched search_from(const calibration::MeasuredData& measured, const SearchSett
                                              trained.training.junction, options, searching);
   trained = calibration::recheck_junction(
       measured, settings, options, std::move(trained),
-      [&](double share, const std::string& stage) { progress.update(0.9 + 0.05 * share, stage); });
+      [&](double share, const std::string& stage) { progress.update(0.8 + 0.15 * share, stage); });
   return {std::move(trained.training.calibration), std::move(trained.training.junction),
           std::move(trained.training.structure), std::move(trained.search),
           std::move(trained.junction_recheck)};
