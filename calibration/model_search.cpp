@@ -434,6 +434,10 @@ std::optional<core::Term> carried_outliers(const core::Calibration& base) {
 
 }  // namespace
 
+Eigen::Index ModelSearchResult::scored_ranges() const {
+  return static_cast<Eigen::Index>(std::count(scored.begin(), scored.end(), true));
+}
+
 std::vector<const CandidateResult*> SearchStep::not_told_apart() const {
   std::vector<const CandidateResult*> out;
   for (const CandidateResult& c : candidates) {
@@ -549,8 +553,6 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
                    options.resolution, held_scores);
   });
   result.base_held_out_log_likelihood = held_scores.sum();
-  result.scored_ranges = static_cast<Eigen::Index>(
-      std::count(folds.is_scored.begin(), folds.is_scored.end(), true));
   const WindowErrors training_errors =
       window_errors_of(search_data, held, folds, options, threads);
   WindowErrors held_errors = training_errors;
@@ -713,7 +715,6 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   }
   result.errors = compare_held_out(training_errors, held_errors, held[0].fit.model.modes, folds,
                                    options);
-  result.final_held_out_log_likelihood = held_scores.sum();
   result.final_held_out_scores = held_scores;
   result.scored = folds.is_scored;
   report(1.0, "done");

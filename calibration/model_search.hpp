@@ -135,15 +135,16 @@ struct ModelSearchResult {
   int carried_from_training = 0;
   core::Calibration calibration;      // the training's model with the kept terms, on all the data
   std::vector<HeldOutError> errors;   // the training's model against the final one
-  // Σ over the scored ranges of their held-out log-likelihood (each scored by the fold that
-  // left it out): under the training's model and under the final one. A range is scored when
-  // its junction temperature lies inside the other fold's (no extrapolation), so the count
-  // depends on the junction estimate: compare two searches per scored range, not by the sums.
+  // The held-out log-likelihood of the scored ranges (each scored by the fold that left it
+  // out), under the final model: per range (0 where not scored) and summed; the training's
+  // model's sum. A range is scored when its junction temperature lies inside the other fold's
+  // (no extrapolation), so the count depends on the junction estimate: compare two searches
+  // per scored range, not by the sums.
+  std::vector<bool> scored;  // per range
+  Eigen::VectorXd final_held_out_scores;
   double base_held_out_log_likelihood = 0.0;
-  double final_held_out_log_likelihood = 0.0;
-  Eigen::Index scored_ranges = 0;
-  std::vector<bool> scored;              // per range
-  Eigen::VectorXd final_held_out_scores;  // per range under the final model; 0 where not scored
+  double final_held_out_log_likelihood() const { return final_held_out_scores.sum(); }
+  Eigen::Index scored_ranges() const;
   Eigen::Index block = 0;             // ranges per block
   Eigen::Index blocks = 0;
   int candidates_per_step = 0;

@@ -2,12 +2,13 @@
 
 #include <fmt/format.h>
 
+#include "cli/search_format.hpp"
+
 namespace tofcomp::cli {
 namespace {
 
 std::string names(const std::vector<core::Term>& terms) {
-  std::string out;
-  for (const core::Term& t : terms) out += (out.empty() ? "" : ", ") + core::effect_name(t.label());
+  const std::string out = effect_names(terms);
   return out.empty() ? "nothing" : out;
 }
 

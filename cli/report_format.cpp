@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "cli/mixture_format.hpp"
 #include "cli/structure_format.hpp"
 
 namespace tofcomp::cli {
@@ -106,17 +107,11 @@ nlohmann::json to_json(const calibration::ThermalFit& fit) {
 }
 
 nlohmann::json to_json(const core::Calibration& c) {
-  nlohmann::json modes = nlohmann::json::array();
-  for (int i = 0; i < c.model.mixture.modes(); ++i) {
-    modes.push_back({{"offset_mm", c.model.mixture.mean[i]},
-                     {"std_mm", std::sqrt(c.model.mixture.variance[i])},
-                     {"weight", c.model.mixture.weight[i]}});
-  }
   return {{"thermal", thermal_json(c.thermal)},
           {"basis", c.model.basis.describe()},
           {"theta_mm",
            std::vector<double>(c.model.theta.data(), c.model.theta.data() + c.model.theta.size())},
-          {"modes", modes},
+          {"modes", modes_json(c.model.mixture)},
           {"samples", c.provenance.samples},
           {"data_set", c.provenance.data_set}};
 }
@@ -176,13 +171,8 @@ std::string thermal_fit_text(const calibration::ThermalFit& fit) {
 }
 
 std::string calibration_text(const core::Calibration& c) {
-  std::string out = "measurement model (Eq. 8): basis " + c.model.basis.describe() + "\n";
-  for (int i = 0; i < c.model.mixture.modes(); ++i) {
-    out += fmt::format("  mode {}: offset {:+.3f} mm, std {:.3f} mm, weight {:.3f}\n", i + 1,
-                       c.model.mixture.mean[i], std::sqrt(c.model.mixture.variance[i]),
-                       c.model.mixture.weight[i]);
-  }
-  return out;
+  return "measurement model (Eq. 8): basis " + c.model.basis.describe() + "\n" +
+         modes_text(c.model.mixture);
 }
 
 std::string window_table_text(const std::vector<calibration::WindowEvaluation>& evaluations) {

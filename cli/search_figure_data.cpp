@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/mixture_format.hpp"
 #include "cli/search_residuals.hpp"
 #include "cli/term_figure_tables.hpp"
 #include "core/error.hpp"
@@ -89,16 +90,6 @@ const core::NoiseBins* bins_fit(const core::Calibration& c, const core::Term& t)
       t.parameter == core::Parameter::Spread ? m.variance_bins : m.weight_bins;
   if (!bins || bins->term.covariate != t.covariate) missing(t);
   return &*bins;
-}
-
-nlohmann::json modes_json(const core::MixtureParameters& modes) {
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < modes.modes(); ++i) {
-    out.push_back({{"offset_mm", modes.mean[i]},
-                   {"std_mm", std::sqrt(modes.variance[i])},
-                   {"weight", modes.weight[i]}});
-  }
-  return out;
 }
 
 nlohmann::json term_json(const FigureTerm& f, int index) {

@@ -68,12 +68,15 @@ std::string errors_text(const std::vector<calibration::HeldOutError>& errors) {
 
 }  // namespace
 
-std::string kept_names(const calibration::ModelSearchResult& search) {
+std::string effect_names(const std::vector<core::Term>& terms) {
   std::string out;
-  for (const core::Term& t : search.kept) {
-    out += (out.empty() ? "" : ", ") + core::effect_name(t.label());
-  }
-  return out.empty() ? "none" : out;
+  for (const core::Term& t : terms) out += (out.empty() ? "" : ", ") + core::effect_name(t.label());
+  return out;
+}
+
+std::string kept_names(const calibration::ModelSearchResult& search) {
+  const std::string names = effect_names(search.kept);
+  return names.empty() ? "none" : names;
 }
 
 nlohmann::json to_json(const calibration::ModelSearchResult& search,
@@ -123,8 +126,8 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
           {"mae_mm", {{"base", base}, {"final", final}}},
           {"held_out_log_likelihood",
            {{"base", search.base_held_out_log_likelihood},
-            {"final", search.final_held_out_log_likelihood},
-            {"scored_ranges", search.scored_ranges}}},
+            {"final", search.final_held_out_log_likelihood()},
+            {"scored_ranges", search.scored_ranges()}}},
           {"mae_factor", factor},
           {"cramer_rao_mae_mm", bound},
           {"mae_over_cramer_rao", {{"base", base_over_bound}, {"final", final_over_bound}}}};

@@ -18,6 +18,8 @@ namespace tofcomp::cli {
 nlohmann::json to_json(const calibration::ModelSearchResult& search,
                        const calibration::ModelSearchOptions& options);
 
+// The terms' effect names, joined by ", " (empty for none).
+std::string effect_names(const std::vector<core::Term>& terms);
 // The name of what was kept ("none" when nothing was).
 std::string kept_names(const calibration::ModelSearchResult& search);
 

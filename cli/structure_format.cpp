@@ -4,6 +4,7 @@
 
 #include <map>
 
+#include "cli/mixture_format.hpp"
 namespace tofcomp::cli {
 namespace {
 
@@ -241,22 +242,11 @@ std::string trained_model_text(const core::Calibration& calibration,
     }
     out.back() = '\n';
   }
-  for (int i = 0; i < m.modes(); ++i) {
-    out += fmt::format("  mode {}: offset {:+.3f} mm, std {:.3f} mm, weight {:.3f}\n", i + 1,
-                       m.mean[i], std::sqrt(m.variance[i]), m.weight[i]);
-  }
-  return out;
+  return out + modes_text(m);
 }
 
 nlohmann::json trained_model_json(const core::Calibration& calibration,
                                   const core::StructureChoice* choice) {
-  const core::MixtureParameters& m = calibration.model.mixture;
-  nlohmann::json modes = nlohmann::json::array();
-  for (int i = 0; i < m.modes(); ++i) {
-    modes.push_back({{"offset_mm", m.mean[i]},
-                     {"std_mm", std::sqrt(m.variance[i])},
-                     {"weight", m.weight[i]}});
-  }
   nlohmann::json by_modes = nullptr;
   if (choice != nullptr) {
     by_modes = nlohmann::json::object();
@@ -265,8 +255,8 @@ nlohmann::json trained_model_json(const core::Calibration& calibration,
     }
   }
   return {{"basis", calibration.model.basis.describe()},
-          {"modes", m.modes()},
-          {"mixture", modes},
+          {"modes", calibration.model.mixture.modes()},
+          {"mixture", modes_json(calibration.model.mixture)},
           {"chosen_from_data", choice != nullptr},
           {"best_held_out_log_likelihood_by_modes", by_modes}};
 }
