@@ -12,6 +12,7 @@
 #include "core/column_products.hpp"
 #include "core/em_test.hpp"
 #include "core/em_train.hpp"
+#include "core/extended_em.hpp"
 #include "core/vector_math.hpp"
 
 namespace {
@@ -143,6 +144,65 @@ void BM_EmTest(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * k);
 }
 
+// Time per iteration of the extended EM's generic step (core/extended_em.hpp) on K ranges,
+// p = 4 shared columns (a cubic), four modes, in the shapes the model search fits most:
+// argument 1 is 0 for one mode's offset on a covariate column, 1 for the spreads in 8 bins,
+// 2 for the weights in 8 bins. Plain EM, a fixed number of iterations.
+void BM_ExtendedEmIteration(benchmark::State& state) {
+  constexpr int kModes = 4;
+  constexpr int kBins = 8;
+  const Eigen::Index k = state.range(0);
+  const int shape = static_cast<int>(state.range(1));
+  const BenchData data = bench_data(k);
+  tofcomp::core::ExtendedDesign design;
+  design.shared = bench_basis(3).design_matrix(data.temperature);
+  design.shared.conservativeResize(Eigen::NoChange, 4);
+  design.shared.col(3) = design.shared.col(1).array().cube().matrix();
+  design.mode_columns.assign(kModes, Eigen::MatrixXd());
+  design.state = Eigen::VectorXi::Zero(k);
+  tofcomp::core::ExtendedParameters start;
+  start.theta = Eigen::VectorXd::Zero(4);
+  start.mode_coefficients.assign(kModes, Eigen::VectorXd());
+  start.model.modes.mean = Eigen::Vector4d(-2.5, -1.5, 2.5, 3.5);
+  start.model.modes.variance = Eigen::Vector4d::Ones();
+  start.model.modes.weight = Eigen::Vector4d::Constant(0.25);
+  const Eigen::VectorXd ramp = Eigen::VectorXd::LinSpaced(k, -1.0, 1.0);
+  if (shape == 0) {
+    design.mode_columns[1] = ramp;
+    start.mode_coefficients[1] = Eigen::VectorXd::Zero(1);
+  } else {
+    tofcomp::core::NoiseBins bins;
+    bins.term.parameter =
+        shape == 1 ? tofcomp::core::Parameter::Spread : tofcomp::core::Parameter::Weights;
+    bins.term.covariate = tofcomp::core::Covariate::Time;
+    bins.term.form = tofcomp::core::Form::Bins;
+    bins.term.knots = Eigen::VectorXd::LinSpaced(kBins - 1, -0.75, 0.75);
+    bins.table = Eigen::MatrixXd::Constant(kBins, kModes, shape == 1 ? 1.0 : 0.25);
+    for (Eigen::Index i = 0; i < k; ++i) {
+      design.state[i] = static_cast<int>(std::min<Eigen::Index>(kBins - 1, i * kBins / k));
+    }
+    if (shape == 1) {
+      start.model.variance_bins = bins;
+    } else {
+      start.model.weight_bins = bins;
+    }
+  }
+  tofcomp::core::ExtendedEmOptions options;
+  options.max_iterations = kTrainIterations;
+  options.log_likelihood_tolerance = 0.0;
+  options.acceleration = tofcomp::core::EmAcceleration::None;
+  for (auto _ : state) {
+    auto fit = tofcomp::core::train_extended_em(design, data.y, start, options);
+    benchmark::DoNotOptimize(fit.fit.theta.data());
+  }
+  state.counters["K"] = static_cast<double>(k);
+  state.counters["ns_per_range_iteration"] = benchmark::Counter(
+      static_cast<double>(state.iterations()) * kTrainIterations * static_cast<double>(k),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
+      benchmark::Counter::OneK::kIs1000);
+  state.SetLabel(shape == 0 ? "mode offset column" : shape == 1 ? "spread bins" : "weight bins");
+}
+
 void train_grid(benchmark::internal::Benchmark* b) {
   for (const int columns : {3, 17, 61, 361}) {
     for (const int64_t k : {1000, 3000, 10000, 30000, 100000}) {
@@ -158,6 +218,10 @@ BENCHMARK(BM_EmTrainIterationOnPath)
     ->ArgsProduct({{10000, 100000}, {3, 17}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->MinTime(0.2);
+BENCHMARK(BM_ExtendedEmIteration)
+    ->ArgsProduct({{86400}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(0.5);
 BENCHMARK(BM_ColumnProducts)->ArgsProduct({{3, 17, 61}, {0, 1}})->MinTime(0.2);
 BENCHMARK(BM_EmTest)
     ->RangeMultiplier(10)

@@ -117,6 +117,7 @@ JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSetti
   JunctionDynamicsOptions options = settings.junction_dynamics;
   options.em = settings.search.em;
   options.em.variance_floor = em.variance_floor;
+  options.em.parallel_for = em.parallel_for;
   core::EmStartingPoint start;
   if (structure_fit) {
     start = *structure_fit;
@@ -180,7 +181,11 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   const double rounding_variance = kRangeResolutionMm * kRangeResolutionMm / 12.0;
   core::EmTrainOptions em = settings.em;
   em.variance_floor = std::max(em.variance_floor, rounding_variance);
+  // Every fit's sweeps on the threads asked for (the fits' answers do not depend on them).
+  const core::ParallelFor runner = parallel_runner(settings.threads);
+  if (!em.parallel_for) em.parallel_for = runner;
   TrainSettings search_settings = settings;
+  if (!search_settings.search.em.parallel_for) search_settings.search.em.parallel_for = runner;
   search_settings.search.em.variance_floor =
       std::max(search_settings.search.em.variance_floor, rounding_variance);
   search_settings.search.resolution = kRangeResolutionMm;

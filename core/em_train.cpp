@@ -328,7 +328,7 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
     // E-step (Eq. 18) at the parameters; for the exact step fused with its weighted sums.
     if (exact) {
       out.sums = exact_step_sweep(h, y, out.parameters.theta, out.parameters.mixture, centre,
-                                  out.responsibilities);
+                                  out.responsibilities, options.parallel_for);
       out.log_likelihood = out.sums.log_likelihood;
       centre = out.sums.weighted_mean();
     } else {
@@ -347,7 +347,8 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
                           scratch);
     }
     MStepResult next;
-    exact_step_solve(h, y, from.sums, from.responsibilities, floor, next.theta, next.mixture);
+    exact_step_solve(h, y, from.sums, from.responsibilities, floor, next.theta, next.mixture,
+                     options.parallel_for);
     return next;
   };
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/gaussian_mixture.hpp"
+#include "core/parallel_for.hpp"
 #include "core/squarem.hpp"
 
 namespace tofcomp::core {
@@ -71,6 +72,9 @@ struct EmTrainOptions {
   // The modes ordered by their means at the end, so that a result does not depend on label
   // switching; false keeps the start's order (for a caller that names modes by index).
   bool sort_modes = true;
+  // Runs the exact step's sweeps in stripes on the caller's threads (core/mixture_sweep.hpp);
+  // empty: on this thread. Any runner gives the same fit bit for bit.
+  ParallelFor parallel_for;
 };
 
 // One row of the convergence record (the paper's Fig. 13).

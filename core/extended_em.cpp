@@ -8,9 +8,11 @@
 #include <sstream>
 #include <vector>
 
+#include "core/column_products.hpp"
 #include "core/covariate_table.hpp"
 #include "core/em_train.hpp"
 #include "core/error.hpp"
+#include "core/extended_sweep.hpp"
 #include "core/mode_regression.hpp"
 #include "core/validation.hpp"
 
@@ -18,6 +20,8 @@ namespace tofcomp::core {
 namespace {
 
 constexpr double kMinimumMass = 1e-9;
+// Ranges per chunk of the fused path's noise sums: a chunk's residuals and shifts stay in cache.
+constexpr Eigen::Index kNoiseChunk = 512;
 // The outlier weight stays inside (0, ½]: a component that took more would not be outliers.
 constexpr double kMinimumOutlierWeight = 1e-12;
 constexpr double kMaximumOutlierWeight = 0.5;
@@ -162,40 +166,60 @@ void fit_variance_slopes(const Eigen::MatrixXd& mass, const Eigen::MatrixXd& squ
   bins.table = bins.table.cwiseMax(floor);
 }
 
-// σ², π (per bin where the model has bins), the transition matrix and ε in closed form, from
-// the residuals e_k = y_k − X_k θ and each mode's shifted offset.
-void update_noise(const Eigen::VectorXd& e, const Eigen::MatrixXd& shift,
-                  const Eigen::VectorXi& state, const ExtendedResponsibilities& r, double floor,
-                  ExtendedMixture& m) {
+// The noise M-step's sums over the ranges, per mode: its responsibility mass per weight bin and
+// per spread bin, and Σ r_ki (e_k − μ_i − s_ki)² per spread bin.
+struct NoiseSums {
+  Eigen::MatrixXd weight_mass, variance_mass, square;  // bins × M
+  explicit NoiseSums(const ExtendedMixture& m)
+      : weight_mass(Eigen::MatrixXd::Zero(m.weight_states(), m.modes.modes())),
+        variance_mass(Eigen::MatrixXd::Zero(m.variance_states(), m.modes.modes())),
+        square(Eigen::MatrixXd::Zero(m.variance_states(), m.modes.modes())) {}
+};
+
+// Adds to the sums the ranges of e (residuals y_k − X_k θ), with each mode's shift s_ki (columns
+// per mode, or empty: none), their states and responsibilities r_ki.
+void add_noise_sums(const Eigen::Ref<const Eigen::VectorXd>& e,
+                    const Eigen::Ref<const Eigen::MatrixXd>& shift,
+                    const Eigen::Ref<const Eigen::VectorXi>& state,
+                    const Eigen::Ref<const Eigen::MatrixXd>& r, const ExtendedMixture& m,
+                    NoiseSums& sums) {
   const int modes = m.modes.modes();
   const int variance_states = m.variance_states();
   const int weight_states = m.weight_states();
-  Eigen::MatrixXd weight_mass = Eigen::MatrixXd::Zero(weight_states, modes);
-  Eigen::MatrixXd variance_mass = Eigen::MatrixXd::Zero(variance_states, modes);
-  Eigen::MatrixXd square = Eigen::MatrixXd::Zero(variance_states, modes);
   const bool shifted = shift.size() > 0;
   Eigen::ArrayXd weighted_square(e.size());
   for (int i = 0; i < modes; ++i) {
     // r_ki (e_k − μ_i − s_ki)² on arrays; summed per bin only where there are bins.
-    const auto resp = r.mode.col(i).array();
+    const auto resp = r.col(i).array();
     weighted_square = e.array() - m.modes.mean[i];
     if (shifted) weighted_square -= shift.col(i).array();
     weighted_square = resp * weighted_square.square();
     if (variance_states == 1 && weight_states == 1) {
       const double mass = resp.sum();
-      weight_mass(0, i) = mass;
-      variance_mass(0, i) = mass;
-      square(0, i) = weighted_square.sum();
+      sums.weight_mass(0, i) += mass;
+      sums.variance_mass(0, i) += mass;
+      sums.square(0, i) += weighted_square.sum();
       continue;
     }
     for (Eigen::Index k = 0; k < e.size(); ++k) {
       const int weight_bin = state[k] / variance_states;
       const int variance_bin = state[k] % variance_states;
-      weight_mass(weight_bin, i) += resp[k];
-      variance_mass(variance_bin, i) += resp[k];
-      square(variance_bin, i) += weighted_square[k];
+      sums.weight_mass(weight_bin, i) += resp[k];
+      sums.variance_mass(variance_bin, i) += resp[k];
+      sums.square(variance_bin, i) += weighted_square[k];
     }
   }
+}
+
+// σ², π (per bin where the model has bins), the transition matrix and ε in closed form, from the
+// sums at the new mean structure and the responsibilities.
+void update_noise(const NoiseSums& sums, const ExtendedResponsibilities& r, double floor,
+                  ExtendedMixture& m) {
+  const int modes = m.modes.modes();
+  const int variance_states = m.variance_states();
+  const Eigen::MatrixXd& weight_mass = sums.weight_mass;
+  const Eigen::MatrixXd& variance_mass = sums.variance_mass;
+  const Eigen::MatrixXd& square = sums.square;
   const Eigen::RowVectorXd mode_mass = variance_mass.colwise().sum();
   for (int i = 0; i < modes; ++i) {
     require_mass(mode_mass[i], "mode " + std::to_string(i + 1));
@@ -231,6 +255,37 @@ void update_noise(const Eigen::VectorXd& e, const Eigen::MatrixXd& shift,
   if (m.outlier_weight > 0.0) {
     m.outlier_weight =
         std::clamp(r.outlier.mean(), kMinimumOutlierWeight, kMaximumOutlierWeight);
+  }
+}
+
+// add_noise_sums over the ranges chunk by chunk, each chunk's residuals and shifts at `at`
+// computed in cache (the fused sweep's M-step; core/extended_sweep.hpp).
+void add_noise_sums_by_chunk(const ExtendedDesign& design, const Eigen::VectorXd& y,
+                             const ExtendedParameters& at, const Eigen::MatrixXd& r,
+                             NoiseSums& sums) {
+  const Eigen::Index k = y.size();
+  const auto modes = static_cast<Eigen::Index>(design.mode_columns.size());
+  bool shifted = false;
+  for (const Eigen::MatrixXd& z : design.mode_columns) shifted = shifted || z.cols() > 0;
+  Eigen::VectorXd e(kNoiseChunk);
+  Eigen::MatrixXd shift(shifted ? kNoiseChunk : 0, shifted ? modes : 0);
+  for (Eigen::Index first = 0; first < k; first += kNoiseChunk) {
+    const Eigen::Index n = std::min(kNoiseChunk, k - first);
+    auto e_chunk = e.head(n);
+    e_chunk = y.segment(first, n);
+    subtract_product(design.shared.middleRows(first, n), at.theta, e_chunk);
+    auto shift_chunk = shift.topRows(shifted ? n : 0);
+    for (Eigen::Index i = 0; shifted && i < modes; ++i) {
+      const Eigen::MatrixXd& z = design.mode_columns[static_cast<std::size_t>(i)];
+      if (z.cols() == 0) {
+        shift_chunk.col(i).setZero();
+      } else {
+        shift_chunk.col(i).noalias() =
+            z.middleRows(first, n) * at.mode_coefficients[static_cast<std::size_t>(i)];
+      }
+    }
+    add_noise_sums(e_chunk, shift_chunk, design.state.segment(first, n), r.middleRows(first, n),
+                   at.model, sums);
   }
 }
 
@@ -363,6 +418,7 @@ struct Point {
   ExtendedParameters parameters;
   ExtendedResponsibilities responsibilities;
   double log_likelihood = 0.0;
+  ExtendedStepSums sums;  // the fused sweep's normal equations (empty on the generic path)
 };
 
 // The cold start of EM testing: mean(x) − Σ π_i μ_i, and under an outlier component the mean of
@@ -453,11 +509,14 @@ ExtendedEmResult train_extended_em(const ExtendedDesign& design,
   validate_design(design, y_minus_d.size(), start);
   start.model.validate();
   if (options.max_iterations < 1) throw InvalidInput("extended EM needs max_iterations >= 1");
-  if (options.fused_plain_mixture && plain_mixture(design, start)) {
+  if (options.fused_sweeps && plain_mixture(design, start)) {
     return train_plain_mixture(design, y_minus_d, start, options);
   }
   const Eigen::VectorXd y = y_minus_d;
   const auto k = static_cast<double>(y.size());
+  // Independent draws run on the fused sweep (core/extended_sweep.hpp): the same ECM step.
+  const bool fused = options.fused_sweeps && extended_sweep_applies(start.model);
+  Eigen::RowVectorXd centre = design.shared.colwise().mean();
 
   ExtendedEmResult result;
   Eigen::MatrixXd scratch;
@@ -465,6 +524,12 @@ ExtendedEmResult train_extended_em(const ExtendedDesign& design,
   const auto evaluate = [&](ExtendedParameters parameters) {
     Point out;
     out.parameters = std::move(parameters);
+    if (fused) {
+      out.sums = extended_step_sweep(design, y, out.parameters, centre, out.responsibilities);
+      out.log_likelihood = out.sums.log_likelihood;
+      centre = out.sums.weighted_mean();
+      return out;
+    }
     const Eigen::MatrixXd shift = mode_shifts(design, out.parameters.mode_coefficients);
     out.log_likelihood =
         extended_e_step(y - design.shared * out.parameters.theta, design.state, shift,
@@ -474,14 +539,24 @@ ExtendedEmResult train_extended_em(const ExtendedDesign& design,
   // M-step from a point: the mean structure at its variances, then the rest of the noise.
   const auto step = [&](const Point& from) {
     ExtendedParameters next = from.parameters;
-    const Eigen::MatrixXd w =
-        precision_weights(from.responsibilities.mode, design.state, from.parameters.model);
-    MeanStructure solved = solve_mean_structure(design.shared, design.mode_columns, y, w, scratch);
+    MeanStructure solved =
+        fused ? solve_mean_structure(from.sums.gram, from.sums.gram_rhs, from.sums.centre,
+                                     from.sums.blocks)
+              : solve_mean_structure(design.shared, design.mode_columns, y,
+                                     precision_weights(from.responsibilities.mode, design.state,
+                                                       from.parameters.model),
+                                     scratch);
     next.theta = std::move(solved.theta);
     next.model.modes.mean = std::move(solved.mean);
     next.mode_coefficients = std::move(solved.mode_coefficients);
-    update_noise(y - design.shared * next.theta, mode_shifts(design, next.mode_coefficients),
-                 design.state, from.responsibilities, options.variance_floor, next.model);
+    NoiseSums sums(next.model);
+    if (fused) {
+      add_noise_sums_by_chunk(design, y, next, from.responsibilities.mode, sums);
+    } else {
+      add_noise_sums(y - design.shared * next.theta, mode_shifts(design, next.mode_coefficients),
+                     design.state, from.responsibilities.mode, next.model, sums);
+    }
+    update_noise(sums, from.responsibilities, options.variance_floor, next.model);
     return next;
   };
 

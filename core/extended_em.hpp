@@ -46,11 +46,12 @@ struct ExtendedEmOptions {
   // SQUAREM (core/squarem.hpp) on the ECM map: the same fixed point in fewer iterations; an
   // iteration is one application of the map, and the trace holds the points moved to.
   EmAcceleration acceleration = EmAcceleration::Squarem;
-  // A design without mode columns under a plain mixture (no extension) is the paper's model with
-  // the bias terms' columns beside H: it runs on the training's fused sweep (core/em_train.hpp),
-  // the same ECM step at under half the cost per range. False: the generic iteration (the tests
-  // compare the two).
-  bool fused_plain_mixture = true;
+  // The same ECM step on a sweep that reads the design once an iteration: a design without mode
+  // columns under a plain mixture (no extension) is the paper's model with the bias terms'
+  // columns beside H and runs on the training's sweep (core/em_train.hpp); any other model of
+  // independent draws without an outlier component on core/extended_sweep.hpp's. False: the
+  // generic iteration for every model (the tests compare them).
+  bool fused_sweeps = true;
 };
 
 struct ExtendedEmResult {

@@ -6,13 +6,16 @@
 // path core/vector_math.hpp chooses) a chunk's E-step runs as one kernel, four ranges per register
 // from the residual to the responsibilities, the weights and the modes' sums
 // (core/mixture_sweep_avx2.cpp), and the products over the basis columns as
-// core/column_products.hpp's; elsewhere Eigen's array code does both. Internal to
-// core/em_train.cpp.
+// core/column_products.hpp's; elsewhere Eigen's array code does both. The ranges are cut into
+// fixed stripes of chunks, each summed from zero and the stripes added in order: with a
+// ParallelFor the stripes run on the caller's threads and the answer is the serial one bit for
+// bit. Internal to core/em_train.cpp.
 #pragma once
 
 #include <Eigen/Core>
 
 #include "core/gaussian_mixture.hpp"
+#include "core/parallel_for.hpp"
 
 namespace tofcomp::core {
 
@@ -36,7 +39,8 @@ struct ExactStepSums {
 ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
                                const Eigen::Ref<const Eigen::VectorXd>& y,
                                const Eigen::VectorXd& theta, const MixtureParameters& mixture,
-                               const Eigen::RowVectorXd& centre, Eigen::MatrixXd& responsibilities);
+                               const Eigen::RowVectorXd& centre, Eigen::MatrixXd& responsibilities,
+                               const ParallelFor& parallel_for = {});
 
 // The exact M-step from a sweep's sums (Eq. 19 solved exactly, an ECM step): θ and μ by the
 // reduced normal equations, then σ_i² (at least floor) and π_i in closed form at the new (θ, μ)
@@ -45,6 +49,7 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
 void exact_step_solve(const Eigen::Ref<const Eigen::MatrixXd>& h,
                       const Eigen::Ref<const Eigen::VectorXd>& y, const ExactStepSums& sums,
                       const Eigen::MatrixXd& responsibilities, double floor,
-                      Eigen::VectorXd& theta, MixtureParameters& mixture);
+                      Eigen::VectorXd& theta, MixtureParameters& mixture,
+                      const ParallelFor& parallel_for = {});
 
 }  // namespace tofcomp::core

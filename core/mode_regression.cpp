@@ -80,16 +80,11 @@ MeanStructure solve_mean_structure(const Eigen::Ref<const Eigen::MatrixXd>& x,
   const Eigen::ArrayXd inverse_sqrt_weight = (sqrt_weight > 0.0).select(sqrt_weight.inverse(), 0.0);
 
   // Mode i's own design [1, Z_i] and the blocks of its normal equations.
-  struct ModeBlock {
-    Eigen::MatrixXd a;  // [1 Z]ᵀ W_i [1 Z]
-    Eigen::MatrixXd c;  // [1 Z]ᵀ W_i X̃
-    Eigen::VectorXd t;  // [1 Z]ᵀ W_i y
-  };
-  std::vector<ModeBlock> blocks(modes);
+  std::vector<ModeNormalBlock> blocks(modes);
   for (std::size_t i = 0; i < modes; ++i) {
     const Eigen::Index q = mode_columns[i].cols();
     const auto w_i = w.col(static_cast<Eigen::Index>(i));
-    ModeBlock& blk = blocks[i];
+    ModeNormalBlock& blk = blocks[i];
     if (q == 0) {  // the offset alone: sums of the weights
       blk.a = Eigen::MatrixXd::Constant(1, 1, w_i.sum());
       blk.t = Eigen::VectorXd::Constant(1, w_i.dot(y));
@@ -108,7 +103,19 @@ MeanStructure solve_mean_structure(const Eigen::Ref<const Eigen::MatrixXd>& x,
                           scratch)
                     : Eigen::MatrixXd(1 + q, 0);
     }
-    if (p > 0) {
+  }
+  return solve_mean_structure(std::move(g), std::move(b), column_mean, blocks);
+}
+
+MeanStructure solve_mean_structure(Eigen::MatrixXd g, Eigen::VectorXd b,
+                                   const Eigen::RowVectorXd& centre,
+                                   const std::vector<ModeNormalBlock>& blocks) {
+  const Eigen::Index p = g.rows();
+  const std::size_t modes = blocks.size();
+  // Each mode's block (μ_i, β_i) profiled out: G − Σ_i cᵢᵀ aᵢ⁻¹ cᵢ, b − Σ_i cᵢᵀ aᵢ⁻¹ tᵢ.
+  if (p > 0) {
+    for (std::size_t i = 0; i < modes; ++i) {
+      const ModeNormalBlock& blk = blocks[i];
       const Eigen::LDLT<Eigen::MatrixXd> factor(blk.a);
       if (factor.info() != Eigen::Success || !(factor.rcond() >= kSingularReciprocalCondition)) {
         throw NumericalError("the M-step: mode " + std::to_string(i + 1) +
@@ -121,14 +128,15 @@ MeanStructure solve_mean_structure(const Eigen::Ref<const Eigen::MatrixXd>& x,
       b.noalias() -= blk.c.transpose() * a_inverse_t;
     }
   }
+  MeanStructure out;
   out.theta = p > 0 ? solve_normal_equations(
                           g, b, "the weighted normal matrix of the M-step's bias and offsets")
                     : Eigen::VectorXd(0);
-  const double centred_bias = p > 0 ? column_mean.dot(out.theta) : 0.0;
+  const double centred_bias = p > 0 ? centre.dot(out.theta) : 0.0;
   out.mean.resize(static_cast<Eigen::Index>(modes));
   out.mode_coefficients.resize(modes);
   for (std::size_t i = 0; i < modes; ++i) {
-    const ModeBlock& blk = blocks[i];
+    const ModeNormalBlock& blk = blocks[i];
     const Eigen::VectorXd rhs = p > 0 ? Eigen::VectorXd(blk.t - blk.c * out.theta) : blk.t;
     const Eigen::VectorXd phi =
         solve_normal_equations(blk.a, rhs, "a mode's offset and its covariate columns");

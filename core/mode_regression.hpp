@@ -45,4 +45,18 @@ MeanStructure solve_mean_structure(const Eigen::Ref<const Eigen::MatrixXd>& x,
                                    const Eigen::Ref<const Eigen::MatrixXd>& weights,
                                    Eigen::MatrixXd& scratch);
 
+// The same solution from the normal equations' sums, X centred on any row c (a sweep that sums
+// them as it goes, core/extended_sweep.hpp): with t_k = Σ_i w_ki, X̃_k = X_k − c and mode i's
+// own columns u_k = [1, Z_ki],
+//   gram = Σ_k t_k X̃_kᵀ X̃_k (p × p),  gram_rhs = Σ_k t_k X̃_kᵀ y_k (p),
+//   per mode a = Σ_k w_ki u_kᵀ u_k,  c = Σ_k w_ki u_kᵀ X̃_k,  t = Σ_k w_ki u_kᵀ y_k.
+struct ModeNormalBlock {
+  Eigen::MatrixXd a;  // (1 + q) × (1 + q)
+  Eigen::MatrixXd c;  // (1 + q) × p
+  Eigen::VectorXd t;  // 1 + q
+};
+MeanStructure solve_mean_structure(Eigen::MatrixXd gram, Eigen::VectorXd gram_rhs,
+                                   const Eigen::RowVectorXd& centre,
+                                   const std::vector<ModeNormalBlock>& blocks);
+
 }  // namespace tofcomp::core

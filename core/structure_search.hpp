@@ -38,12 +38,10 @@
 
 #include "core/basis.hpp"
 #include "core/em_train.hpp"
+#include "core/parallel_for.hpp"
 
 namespace tofcomp::core {
 
-// Runs task(i) for every i in [0, count), in any order and possibly at once (the caller's
-// threads: core has none); each task writes only its own results.
-using ParallelFor = std::function<void(int count, const std::function<void(int)>& task)>;
 
 struct StructureSearchOptions {
   int folds = 5;

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <thread>
 
 #include "core/basis.hpp"
 #include "core/error.hpp"
@@ -228,6 +230,31 @@ TEST(EmTrain, AStartFromANestedBasisReachesTheSameMaximum) {
   const EmTrainResult cold = train_em(h3, y);
   EXPECT_NEAR(warm.log_likelihood, cold.log_likelihood, 1e-6 * 20000);
   for (Eigen::Index j = 0; j < 3; ++j) EXPECT_NEAR(warm.theta[j], cold.theta[j], 1e-3);
+}
+
+// The sweeps' stripes handed to threads (here two, each taking the stripes in reverse order)
+// give the fit of the serial run bit for bit: each stripe's sums start from zero and the
+// stripes are added in order whatever ran them (core/mixture_sweep.hpp).
+TEST(EmTrain, StripesOnThreadsGiveTheSerialFitBitForBit) {
+  EmTrainOptions threaded;
+  threaded.parallel_for = [](int count, const std::function<void(int)>& task) {
+    std::thread other([&] {
+      for (int i = count - 1; i >= 0; i -= 2) task(i);
+    });
+    for (int i = count - 2; i >= 0; i -= 2) task(i);
+    other.join();
+  };
+  const auto truth = testing::mixture({-2.0, 3.0}, {1.0, 1.5}, {0.6, 0.4});
+  const Trained serial = train_on(truth, 7, 2, 50000);  // a dozen stripes, the last one short
+  const Trained parallel = train_on(truth, 7, 2, 50000, threaded);
+  ASSERT_TRUE(serial.fit.converged);
+  EXPECT_EQ(parallel.fit.iterations, serial.fit.iterations);
+  EXPECT_EQ(parallel.fit.log_likelihood, serial.fit.log_likelihood);
+  EXPECT_EQ(parallel.fit.theta, serial.fit.theta);
+  EXPECT_EQ(parallel.fit.mixture.mean, serial.fit.mixture.mean);
+  EXPECT_EQ(parallel.fit.mixture.variance, serial.fit.mixture.variance);
+  EXPECT_EQ(parallel.fit.mixture.weight, serial.fit.mixture.weight);
+  EXPECT_EQ(parallel.fit.responsibilities, serial.fit.responsibilities);
 }
 
 TEST(EmTrain, AStartThatDoesNotFitIsRefused) {

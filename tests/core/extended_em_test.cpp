@@ -258,7 +258,7 @@ TEST(ExtendedEm, PlainMixtureOnTheFusedSweepIsTheGenericIteration) {
     fused.acceleration = acceleration;
     fused.log_likelihood_tolerance = 1e-12;
     ExtendedEmOptions generic = fused;
-    generic.fused_plain_mixture = false;
+    generic.fused_sweeps = false;
     const ExtendedEmResult a = train_extended_em(d, y, start, fused);
     const ExtendedEmResult b = train_extended_em(d, y, start, generic);
     ASSERT_TRUE(a.converged);
@@ -278,6 +278,98 @@ TEST(ExtendedEm, PlainMixtureOnTheFusedSweepIsTheGenericIteration) {
         EXPECT_NEAR(a.log_likelihood_trace[i], b.log_likelihood_trace[i],
                     1e-9 * std::abs(b.log_likelihood_trace[i]))
             << i;
+      }
+    }
+  }
+}
+
+// Independent draws with a mode's offset on a covariate column, the spreads in bins, the weights
+// in bins, and all three at once, run on the extended sweep (core/extended_sweep.hpp): the same
+// ECM iteration as the generic one (plain EM: the same log-likelihood at every iteration), and
+// under SQUAREM the same maximum, which recovers the drawn slope.
+TEST(ExtendedEm, IndependentDrawsOnTheFusedSweepAreTheGenericIteration) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Index k = 5000;  // ten chunks of the sweep, the last one short
+  Eigen::MatrixXd h(k, 2);
+  Eigen::VectorXd y(k), covariate(k), temperature(k);
+  Eigen::VectorXi bin(k);
+  constexpr double kSlope = 0.8;
+  for (Eigen::Index i = 0; i < k; ++i) {
+    temperature[i] = 20.0 + 10.0 * static_cast<double>(i) / static_cast<double>(k);
+    h(i, 0) = (temperature[i] - 25.0) / 5.0;
+    h(i, 1) = h(i, 0) * h(i, 0);
+    covariate[i] = u(rng) * 2.0 - 1.0;
+    bin[i] = temperature[i] < 25.0 ? 0 : 1;
+    const bool second = u(rng) < (bin[i] == 0 ? 0.3 : 0.6);
+    const double spread = (second ? 0.6 : 0.8) * (bin[i] == 0 ? 1.0 : 1.5);
+    y[i] = 1.1 * h(i, 0) + 0.4 * h(i, 1) + (second ? 1.5 + kSlope * covariate[i] : -1.0) +
+           spread * n(rng);
+  }
+  const Eigen::VectorXd edge = Eigen::VectorXd::Constant(1, 25.0);
+  for (int shape = 0; shape < 4; ++shape) {
+    const bool offset = shape == 0 || shape == 3;
+    const bool spreads = shape == 1 || shape == 3;
+    const bool weights = shape == 2 || shape == 3;
+    ExtendedMixture model = without_extensions(two_modes());
+    if (spreads) {
+      model.variance_bins = NoiseBins{temperature_bins(Parameter::Spread, edge),
+                                      Eigen::MatrixXd::Ones(2, 2), {}, {}};
+    }
+    if (weights) {
+      model.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, edge),
+                                    Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
+    }
+    Eigen::VectorXi state(k);
+    for (Eigen::Index i = 0; i < k; ++i) {
+      state[i] = model.state(weights ? bin[i] : 0, spreads ? bin[i] : 0);
+    }
+    ExtendedDesign d = design(h, 2, state);
+    ExtendedParameters start = start_at(Eigen::VectorXd::Zero(2), model);
+    if (offset) {
+      d.mode_columns[1] = covariate;
+      start.mode_coefficients[1] = Eigen::VectorXd::Zero(1);
+    }
+    for (const EmAcceleration acceleration : {EmAcceleration::None, EmAcceleration::Squarem}) {
+      ExtendedEmOptions fused;
+      fused.acceleration = acceleration;
+      fused.log_likelihood_tolerance = 1e-12;
+      fused.max_iterations = 2000;
+      ExtendedEmOptions generic = fused;
+      generic.fused_sweeps = false;
+      const ExtendedEmResult a = train_extended_em(d, y, start, fused);
+      const ExtendedEmResult b = train_extended_em(d, y, start, generic);
+      ASSERT_TRUE(a.converged) << shape;
+      ASSERT_TRUE(b.converged) << shape;
+      EXPECT_NEAR(a.log_likelihood, b.log_likelihood, 1e-6) << shape;
+      EXPECT_LE((a.fit.theta - b.fit.theta).cwiseAbs().maxCoeff(), 1e-5) << shape;
+      EXPECT_LE((a.fit.model.modes.mean - b.fit.model.modes.mean).cwiseAbs().maxCoeff(), 1e-5);
+      EXPECT_LE((a.responsibilities.mode - b.responsibilities.mode).cwiseAbs().maxCoeff(), 1e-5);
+      if (offset) {
+        EXPECT_NEAR(a.fit.mode_coefficients[1][0], b.fit.mode_coefficients[1][0], 1e-5);
+        EXPECT_NEAR(a.fit.mode_coefficients[1][0], kSlope, 0.1);
+      }
+      if (spreads) {
+        EXPECT_LE((a.fit.model.variance_bins->table - b.fit.model.variance_bins->table)
+                      .cwiseAbs()
+                      .maxCoeff(),
+                  1e-5);
+      }
+      if (weights) {
+        EXPECT_LE((a.fit.model.weight_bins->table - b.fit.model.weight_bins->table)
+                      .cwiseAbs()
+                      .maxCoeff(),
+                  1e-5);
+        EXPECT_NEAR(a.fit.model.weight_bins->table(1, 1), 0.6, 0.05);
+      }
+      if (acceleration == EmAcceleration::None) {
+        ASSERT_EQ(a.log_likelihood_trace.size(), b.log_likelihood_trace.size()) << shape;
+        for (std::size_t i = 0; i < a.log_likelihood_trace.size(); ++i) {
+          EXPECT_NEAR(a.log_likelihood_trace[i], b.log_likelihood_trace[i],
+                      1e-9 * std::abs(b.log_likelihood_trace[i]))
+              << shape << " " << i;
+        }
       }
     }
   }
