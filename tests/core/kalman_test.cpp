@@ -168,6 +168,38 @@ TEST(KalmanSmoother, LastEstimateIsTheFilters) {
   EXPECT_TRUE(std::isfinite(s.log_likelihood));
 }
 
+// A state known to within 1e-7 K in the case and 1e-15 K in the junction under no process noise:
+// every predicted covariance is near singular (the smoother takes the pseudo-inverse, not
+// Cholesky), and the smoother returns the model's own noise-free trajectory, finite, whatever
+// the readings say.
+TEST(KalmanSmoother, AStateKnownExactlyStaysOnTheModelsTrajectory) {
+  const ThermalParameters p = lms200_example_parameters();
+  ThermalNoise n;
+  n.case_process_psd_k2_per_s = 0.0;
+  n.junction_process_psd_k2_per_s = 0.0;
+  n.measurement_variance_k2 = 0.05 * 0.05;
+  const Eigen::Index k = 600;
+  Eigen::VectorXd times(k), u(k), ta(k), reading(k);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    times[i] = static_cast<double>(i);
+    u[i] = (i / 200) % 2 == 0 ? 1.0 : 0.0;
+    ta[i] = 22.0;
+  }
+  const Eigen::Vector2d start(24.0, 27.0);
+  const ThermalTrajectory truth = simulate(discretize_zoh(p, 1.0), start, u, ta);
+  reading = truth.case_c.array() + 0.3;  // readings off the model: they cannot move a known state
+  ThermalBelief known;
+  known.mean = start;
+  known.covariance << 1e-14, 0.0, 0.0, 1e-30;
+  const SmoothedThermalRecord s = smooth_thermal_record(p, n, known, times, u, ta, reading,
+                                                        std::vector<bool>(k, true));
+  for (Eigen::Index i = 0; i < k; ++i) {
+    ASSERT_NEAR(s.junction_mean_c[i], truth.junction_c[i], 1e-6) << i;
+    ASSERT_NEAR(s.case_mean_c[i], truth.case_c[i], 1e-6) << i;
+    ASSERT_TRUE(std::isfinite(s.junction_std_c[i])) << i;
+  }
+}
+
 // Without process noise the model is exact, so many readings pin the junction to the truth.
 TEST(ThermalKalmanFilter, ConvergesToTheTruthWithoutProcessNoise) {
   const ThermalParameters p = lms200_example_parameters();
