@@ -47,6 +47,15 @@ ThermalNoise loud_noise() {
   return n;
 }
 
+// No process noise: the model is exact; readings with a 0.05 K standard deviation.
+ThermalNoise sensor_noise_only() {
+  ThermalNoise n;
+  n.case_process_psd_k2_per_s = 0.0;
+  n.junction_process_psd_k2_per_s = 0.0;
+  n.measurement_variance_k2 = 0.05 * 0.05;
+  return n;
+}
+
 ThermalBelief prior() {
   ThermalBelief b;
   b.mean = Eigen::Vector2d(22.3, 24.0);
@@ -174,10 +183,7 @@ TEST(KalmanSmoother, LastEstimateIsTheFilters) {
 // the readings say.
 TEST(KalmanSmoother, AStateKnownExactlyStaysOnTheModelsTrajectory) {
   const ThermalParameters p = lms200_example_parameters();
-  ThermalNoise n;
-  n.case_process_psd_k2_per_s = 0.0;
-  n.junction_process_psd_k2_per_s = 0.0;
-  n.measurement_variance_k2 = 0.05 * 0.05;
+  const ThermalNoise n = sensor_noise_only();
   const Eigen::Index k = 600;
   Eigen::VectorXd times(k), u(k), ta(k), reading(k);
   for (Eigen::Index i = 0; i < k; ++i) {
@@ -203,10 +209,7 @@ TEST(KalmanSmoother, AStateKnownExactlyStaysOnTheModelsTrajectory) {
 // Without process noise the model is exact, so many readings pin the junction to the truth.
 TEST(ThermalKalmanFilter, ConvergesToTheTruthWithoutProcessNoise) {
   const ThermalParameters p = lms200_example_parameters();
-  ThermalNoise n;
-  n.case_process_psd_k2_per_s = 0.0;
-  n.junction_process_psd_k2_per_s = 0.0;
-  n.measurement_variance_k2 = 0.05 * 0.05;
+  const ThermalNoise n = sensor_noise_only();
   const Eigen::Index k = 7200;
   Eigen::VectorXd u(k);
   for (Eigen::Index i = 0; i < k; ++i) u[i] = (i / 900) % 2 == 0 ? 1.0 : 0.0;
