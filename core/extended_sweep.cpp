@@ -40,14 +40,14 @@ struct StateConstants {
 
 // A chunk's working arrays.
 struct ChunkScratch {
-  Eigen::ArrayXd e, top, total, log_total, root_t, root_t_y, gathered;
+  Eigen::ArrayXd e, top, total, log_total, root_t, root_t_y, inverse_root_t;
   Eigen::ArrayXXd joint;     // n × M: the log joints, then the densities over their largest
   Eigen::MatrixXd weights;   // n × M: w_ki
   Eigen::MatrixXd centred;   // n × p: √t_k (X_k − c)
   Eigen::MatrixXd own;       // n × Σ(1 + q_i): w_ki u_kj / √t_k, mode by mode
   ChunkScratch(Eigen::Index p, int m, Eigen::Index own_columns)
       : e(kChunk), top(kChunk), total(kChunk), log_total(kChunk), root_t(kChunk),
-        root_t_y(kChunk), gathered(kChunk), joint(kChunk, m), weights(kChunk, m),
+        root_t_y(kChunk), inverse_root_t(kChunk), joint(kChunk, m), weights(kChunk, m),
         centred(kChunk, p), own(kChunk, own_columns) {}
 };
 
@@ -165,7 +165,7 @@ ExtendedStepSums extended_step_sweep(const ExtendedDesign& design, const Eigen::
     root_t_y = root_t * y_chunk;
     add_cross_products(x, root_t_y.matrix(), s.gram_rhs);
     auto own = c.own.topRows(n);
-    auto inverse_root_t = c.gathered.head(n);
+    auto inverse_root_t = c.inverse_root_t.head(n);
     inverse_root_t = root_t.inverse();
     for (int i = 0; i < m; ++i) {
       const auto& z = design.mode_columns[static_cast<std::size_t>(i)];
