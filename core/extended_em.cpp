@@ -20,8 +20,6 @@ namespace tofcomp::core {
 namespace {
 
 constexpr double kMinimumMass = 1e-9;
-// Ranges per chunk of the fused path's noise sums: a chunk's residuals and shifts stay in cache.
-constexpr Eigen::Index kNoiseChunk = 512;
 // The outlier weight stays inside (0, ½]: a component that took more would not be outliers.
 constexpr double kMinimumOutlierWeight = 1e-12;
 constexpr double kMaximumOutlierWeight = 0.5;
@@ -264,26 +262,17 @@ void add_noise_sums_by_chunk(const ExtendedDesign& design, const Eigen::VectorXd
                              const ExtendedParameters& at, const Eigen::MatrixXd& r,
                              NoiseSums& sums) {
   const Eigen::Index k = y.size();
-  const auto modes = static_cast<Eigen::Index>(design.mode_columns.size());
-  bool shifted = false;
-  for (const Eigen::MatrixXd& z : design.mode_columns) shifted = shifted || z.cols() > 0;
-  Eigen::VectorXd e(kNoiseChunk);
-  Eigen::MatrixXd shift(shifted ? kNoiseChunk : 0, shifted ? modes : 0);
-  for (Eigen::Index first = 0; first < k; first += kNoiseChunk) {
-    const Eigen::Index n = std::min(kNoiseChunk, k - first);
+  const bool shifted = has_mode_columns(design);
+  Eigen::VectorXd e(kExtendedSweepChunk);
+  Eigen::MatrixXd shift(shifted ? kExtendedSweepChunk : 0,
+                        shifted ? static_cast<Eigen::Index>(design.mode_columns.size()) : 0);
+  for (Eigen::Index first = 0; first < k; first += kExtendedSweepChunk) {
+    const Eigen::Index n = std::min(kExtendedSweepChunk, k - first);
     auto e_chunk = e.head(n);
     e_chunk = y.segment(first, n);
     subtract_product(design.shared.middleRows(first, n), at.theta, e_chunk);
     auto shift_chunk = shift.topRows(shifted ? n : 0);
-    for (Eigen::Index i = 0; shifted && i < modes; ++i) {
-      const Eigen::MatrixXd& z = design.mode_columns[static_cast<std::size_t>(i)];
-      if (z.cols() == 0) {
-        shift_chunk.col(i).setZero();
-      } else {
-        shift_chunk.col(i).noalias() =
-            z.middleRows(first, n) * at.mode_coefficients[static_cast<std::size_t>(i)];
-      }
-    }
+    if (shifted) mode_shifts_of_rows(design, at.mode_coefficients, first, n, shift_chunk);
     add_noise_sums(e_chunk, shift_chunk, design.state.segment(first, n), r.middleRows(first, n),
                    at.model, sums);
   }
@@ -441,29 +430,38 @@ double cold_start_distance(const Eigen::VectorXd& x, const ExtendedMixture& mode
 
 }  // namespace
 
-Eigen::MatrixXd mode_shifts(const ExtendedDesign& design,
-                            const std::vector<Eigen::VectorXd>& mode_coefficients) {
-  const Eigen::Index k = design.state.size();
-  Eigen::MatrixXd out;
+bool has_mode_columns(const ExtendedDesign& design) {
+  return std::any_of(design.mode_columns.begin(), design.mode_columns.end(),
+                     [](const Eigen::MatrixXd& z) { return z.size() > 0; });
+}
+
+void mode_shifts_of_rows(const ExtendedDesign& design,
+                         const std::vector<Eigen::VectorXd>& mode_coefficients, Eigen::Index first,
+                         Eigen::Index n, Eigen::Ref<Eigen::MatrixXd> out) {
   for (std::size_t i = 0; i < design.mode_columns.size(); ++i) {
     const Eigen::MatrixXd& z = design.mode_columns[i];
-    if (z.size() == 0) continue;
-    if (out.size() == 0) {
-      out = Eigen::MatrixXd::Zero(k, static_cast<Eigen::Index>(design.mode_columns.size()));
+    const auto column = static_cast<Eigen::Index>(i);
+    if (z.size() == 0) {
+      out.col(column).setZero();
+    } else {
+      out.col(column).noalias() = z.middleRows(first, n) * mode_coefficients[i];
     }
-    out.col(static_cast<Eigen::Index>(i)) = z * mode_coefficients[i];
   }
+}
+
+Eigen::MatrixXd mode_shifts(const ExtendedDesign& design,
+                            const std::vector<Eigen::VectorXd>& mode_coefficients) {
+  if (!has_mode_columns(design)) return {};
+  const Eigen::Index k = design.state.size();
+  Eigen::MatrixXd out(k, static_cast<Eigen::Index>(design.mode_columns.size()));
+  mode_shifts_of_rows(design, mode_coefficients, 0, k, out);
   return out;
 }
 
 namespace {
 
 bool plain_mixture(const ExtendedDesign& design, const ExtendedParameters& start) {
-  if (start.model.has_extension()) return false;
-  for (const Eigen::MatrixXd& z : design.mode_columns) {
-    if (z.size() > 0) return false;
-  }
-  return true;
+  return !start.model.has_extension() && !has_mode_columns(design);
 }
 
 // The plain model on train_em's fused sweep: the same ECM step (θ and μ jointly by weighted least

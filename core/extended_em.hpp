@@ -66,6 +66,12 @@ struct ExtendedEmResult {
 // Each mode's offset shift Z_ki β_i (K × M; empty when no mode has columns).
 Eigen::MatrixXd mode_shifts(const ExtendedDesign& design,
                             const std::vector<Eigen::VectorXd>& mode_coefficients);
+// Whether any mode's offset has columns.
+bool has_mode_columns(const ExtendedDesign& design);
+// The shifts of the n ranges from `first` into out (n × M), for a design with mode columns.
+void mode_shifts_of_rows(const ExtendedDesign& design,
+                         const std::vector<Eigen::VectorXd>& mode_coefficients, Eigen::Index first,
+                         Eigen::Index n, Eigen::Ref<Eigen::MatrixXd> out);
 
 // Throws InvalidInput on inconsistent arguments and NumericalError when a mode or bin loses
 // every range or a normal matrix is singular.

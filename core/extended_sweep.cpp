@@ -12,8 +12,7 @@
 namespace tofcomp::core {
 namespace {
 
-// Ranges per chunk: a chunk's columns stay in cache between the E-step and the sums.
-constexpr Eigen::Index kChunk = 512;
+constexpr Eigen::Index kChunk = kExtendedSweepChunk;
 
 // Per noise state s and mode i: log π_{s,i} − ½ log(2π σ²_{s,i}), 1/(2σ²_{s,i}) and 1/σ²_{s,i}.
 struct StateConstants {
@@ -45,10 +44,11 @@ struct ChunkScratch {
   Eigen::MatrixXd weights;   // n × M: w_ki
   Eigen::MatrixXd centred;   // n × p: √t_k (X_k − c)
   Eigen::MatrixXd own;       // n × Σ(1 + q_i): w_ki u_kj / √t_k, mode by mode
-  ChunkScratch(Eigen::Index p, int m, Eigen::Index own_columns)
+  Eigen::MatrixXd shift;     // n × M: Z_ki β_i (no rows when no mode has columns)
+  ChunkScratch(Eigen::Index p, int m, Eigen::Index own_columns, bool shifted)
       : e(kChunk), top(kChunk), total(kChunk), log_total(kChunk), root_t(kChunk),
         root_t_y(kChunk), inverse_root_t(kChunk), joint(kChunk, m), weights(kChunk, m),
-        centred(kChunk, p), own(kChunk, own_columns) {}
+        centred(kChunk, p), own(kChunk, own_columns), shift(shifted ? kChunk : 0, m) {}
 };
 
 }  // namespace
@@ -99,7 +99,8 @@ ExtendedStepSums extended_step_sweep(const ExtendedDesign& design, const Eigen::
   responsibilities.mode.resize(k, m);
   responsibilities.outlier = Eigen::VectorXd::Zero(k);
   responsibilities.transitions.resize(0, 0);
-  ChunkScratch c(p, m, own_columns);
+  const bool shifted = has_mode_columns(design);
+  ChunkScratch c(p, m, own_columns, shifted);
   for (Eigen::Index first = 0; first < k; first += kChunk) {
     const Eigen::Index n = std::min(kChunk, k - first);
     const auto x_chunk = design.shared.middleRows(first, n);
@@ -110,14 +111,12 @@ ExtendedStepSums extended_step_sweep(const ExtendedDesign& design, const Eigen::
     subtract_product(x_chunk, at.theta, e.matrix());
     // log π_{s,i} N(e_k; μ_i + Z_ki β_i, σ²_{s,i}) for every mode, at each range's state.
     auto joint = c.joint.topRows(n);
+    auto shift = c.shift.topRows(shifted ? n : 0);
+    if (shifted) mode_shifts_of_rows(design, at.mode_coefficients, first, n, shift);
     for (int i = 0; i < m; ++i) {
-      const auto& z = design.mode_columns[static_cast<std::size_t>(i)];
       auto column = joint.col(i);
       column = e - model.modes.mean[i];
-      if (z.cols() > 0) {
-        column -= (z.middleRows(first, n) * at.mode_coefficients[static_cast<std::size_t>(i)])
-                      .array();
-      }
+      if (shifted) column -= shift.col(i).array();
       if (one_state) {
         column = constants.log_constant(0, i) - column.square() * constants.half_precision(0, i);
       } else {

@@ -16,6 +16,10 @@
 
 namespace tofcomp::core {
 
+// Ranges per chunk of the fused path's sweeps: a chunk's columns stay in cache between the
+// E-step and the sums.
+inline constexpr Eigen::Index kExtendedSweepChunk = 512;
+
 // The normal equations' sums of one sweep, X centred on a fixed row (any row gives the same
 // solution; one near the t-weighted mean of X keeps them well conditioned).
 struct ExtendedStepSums {
