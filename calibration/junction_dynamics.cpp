@@ -68,7 +68,8 @@ class Evaluator {
         options_(options),
         progress_(progress),
         noise_(problem.kalman_noise),
-        warm_(problem.start) {
+        warm_(problem.start),
+        grid_(thermal_record_grid(problem.data, problem.ambient_fallback_c)) {
     y_minus_d_ = problem.data.range_mm - problem.data.true_range_mm;
   }
 
@@ -83,8 +84,7 @@ class Evaluator {
         with_junction_dynamics(problem_.case_fit.parameters, point.dynamics);
     point.prior_cost = prior_cost(parameters);
     try {
-      const SmoothedJunction junction = junction_at_ranges(problem_.data, parameters, noise_,
-                                                           problem_.ambient_fallback_c);
+      const SmoothedJunction junction = junction_at_ranges(grid_, parameters, noise_);
       const Eigen::MatrixXd h =
           basis_spanning(problem_.basis, junction.junction_c).design_matrix(junction.junction_c);
       core::EmTrainOptions em = options_.em;
@@ -133,6 +133,8 @@ class Evaluator {
   const JunctionDynamicsProgress& progress_;
   core::ThermalNoise noise_;
   core::EmStartingPoint warm_;
+  // Every point smooths the same readings on the same grid.
+  ThermalRecordGrid grid_;
   Eigen::VectorXd y_minus_d_;
 };
 

@@ -13,9 +13,7 @@ constexpr double kPriorCaseStdC = 0.5;
 
 }  // namespace
 
-SmoothedJunction junction_at_ranges(const MeasuredData& data,
-                                    const core::ThermalParameters& thermal,
-                                    const core::ThermalNoise& noise, double ambient_fallback_c) {
+ThermalRecordGrid thermal_record_grid(const MeasuredData& data, double ambient_fallback_c) {
   if (data.temperature_time_s.size() == 0) {
     throw core::InvalidInput(data.source +
                              ": no case_temp_c readings: the junction temperature cannot be "
@@ -27,52 +25,66 @@ SmoothedJunction junction_at_ranges(const MeasuredData& data,
     bool reading;
     Eigen::Index index;
   };
-  std::vector<Instant> grid;
-  grid.reserve(static_cast<std::size_t>(data.temperature_time_s.size() + data.range_time_s.size()));
+  std::vector<Instant> instants;
+  instants.reserve(
+      static_cast<std::size_t>(data.temperature_time_s.size() + data.range_time_s.size()));
   for (Eigen::Index i = 0; i < data.temperature_time_s.size(); ++i) {
-    grid.push_back({data.temperature_time_s[i], true, i});
+    instants.push_back({data.temperature_time_s[i], true, i});
   }
   for (Eigen::Index i = 0; i < data.range_time_s.size(); ++i) {
-    grid.push_back({data.range_time_s[i], false, i});
+    instants.push_back({data.range_time_s[i], false, i});
   }
-  std::stable_sort(grid.begin(), grid.end(), [](const Instant& a, const Instant& b) {
+  std::stable_sort(instants.begin(), instants.end(), [](const Instant& a, const Instant& b) {
     return a.time_s < b.time_s || (a.time_s == b.time_s && a.reading && !b.reading);
   });
 
-  const auto n = static_cast<Eigen::Index>(grid.size());
-  Eigen::VectorXd times(n), power(n), ambient(n), reading(n);
-  std::vector<bool> measured(static_cast<std::size_t>(n));
+  const auto n = static_cast<Eigen::Index>(instants.size());
+  ThermalRecordGrid grid;
+  grid.time_s.resize(n);
+  grid.power_on.resize(n);
+  grid.ambient_c.resize(n);
+  grid.reading_c.resize(n);
+  grid.measured.resize(static_cast<std::size_t>(n));
+  grid.range_in_grid.resize(data.range_time_s.size());
+  grid.first_case_c = data.case_c[0];
   for (Eigen::Index g = 0; g < n; ++g) {
-    const Instant& at = grid[static_cast<std::size_t>(g)];
-    times[g] = at.time_s;
+    const Instant& at = instants[static_cast<std::size_t>(g)];
+    grid.time_s[g] = at.time_s;
     // Eq. 3's input held over each interval (zero-order hold): the share of the interval to the
     // next instant the power was on, so that a switch between instants heats the model by the
     // energy it put in (the case log's convention, calibration/measured_data.hpp).
-    power[g] = g + 1 < n ? data.power_on_fraction(at.time_s, grid[static_cast<std::size_t>(g) + 1].time_s)
-                         : (data.power_on_at(at.time_s) ? 1.0 : 0.0);
-    ambient[g] = data.ambient_at(at.time_s, ambient_fallback_c);
-    reading[g] = at.reading ? data.case_c[at.index] : 0.0;
-    measured[static_cast<std::size_t>(g)] = at.reading;
+    grid.power_on[g] =
+        g + 1 < n ? data.power_on_fraction(at.time_s, instants[static_cast<std::size_t>(g) + 1].time_s)
+                  : (data.power_on_at(at.time_s) ? 1.0 : 0.0);
+    grid.ambient_c[g] = data.ambient_at(at.time_s, ambient_fallback_c);
+    grid.reading_c[g] = at.reading ? data.case_c[at.index] : 0.0;
+    grid.measured[static_cast<std::size_t>(g)] = at.reading;
+    if (!at.reading) grid.range_in_grid[at.index] = static_cast<int>(g);
   }
-  const core::ThermalBelief prior = core::prior_at_case_temperature(
-      thermal, data.case_c[0], ambient[0], kPriorCaseStdC);
-  const core::SmoothedThermalRecord smoothed =
-      core::smooth_thermal_record(thermal, noise, prior, times, power, ambient, reading, measured);
+  return grid;
+}
 
+SmoothedJunction junction_at_ranges(const ThermalRecordGrid& grid,
+                                    const core::ThermalParameters& thermal,
+                                    const core::ThermalNoise& noise) {
+  const core::ThermalBelief prior = core::prior_at_case_temperature(
+      thermal, grid.first_case_c, grid.ambient_c[0], kPriorCaseStdC);
+  const core::SmoothedThermalRecord smoothed = core::smooth_thermal_record(
+      thermal, noise, prior, grid.time_s, grid.power_on, grid.ambient_c, grid.reading_c,
+      grid.measured);
   SmoothedJunction out;
-  out.junction_c.resize(data.range_time_s.size());
-  out.junction_std_c.resize(data.range_time_s.size());
-  out.range_in_history.resize(data.range_time_s.size());
-  out.history_time_s = times;
+  out.junction_c = smoothed.junction_mean_c(grid.range_in_grid);
+  out.junction_std_c = smoothed.junction_std_c(grid.range_in_grid);
+  out.range_in_history = grid.range_in_grid;
+  out.history_time_s = grid.time_s;
   out.history_junction_c = smoothed.junction_mean_c;
-  for (Eigen::Index g = 0; g < n; ++g) {
-    const Instant& at = grid[static_cast<std::size_t>(g)];
-    if (at.reading) continue;
-    out.junction_c[at.index] = smoothed.junction_mean_c[g];
-    out.junction_std_c[at.index] = smoothed.junction_std_c[g];
-    out.range_in_history[at.index] = static_cast<int>(g);
-  }
   return out;
+}
+
+SmoothedJunction junction_at_ranges(const MeasuredData& data,
+                                    const core::ThermalParameters& thermal,
+                                    const core::ThermalNoise& noise, double ambient_fallback_c) {
+  return junction_at_ranges(thermal_record_grid(data, ambient_fallback_c), thermal, noise);
 }
 
 }  // namespace tofcomp::calibration

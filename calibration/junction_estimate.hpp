@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <vector>
 
 #include "calibration/measured_data.hpp"
 #include "core/kalman.hpp"
@@ -25,5 +26,23 @@ struct SmoothedJunction {
 SmoothedJunction junction_at_ranges(const MeasuredData& data,
                                     const core::ThermalParameters& thermal,
                                     const core::ThermalNoise& noise, double ambient_fallback_c);
+
+// What the smoother runs over, which does not depend on the thermal parameters: the merged time
+// grid of readings and ranges with Eq. 3's inputs on it. Built once for a search that smooths
+// the same data at many parameters (calibration/junction_dynamics.hpp).
+struct ThermalRecordGrid {
+  Eigen::VectorXd time_s;
+  Eigen::VectorXd power_on;   // the share of each interval to the next instant the power was on
+  Eigen::VectorXd ambient_c;
+  Eigen::VectorXd reading_c;  // the case reading at a reading's instant, 0 elsewhere
+  std::vector<bool> measured;
+  Eigen::VectorXi range_in_grid;  // each range's instant
+  double first_case_c = 0.0;
+};
+// Throws InvalidInput when the data carry no case readings.
+ThermalRecordGrid thermal_record_grid(const MeasuredData& data, double ambient_fallback_c);
+SmoothedJunction junction_at_ranges(const ThermalRecordGrid& grid,
+                                    const core::ThermalParameters& thermal,
+                                    const core::ThermalNoise& noise);
 
 }  // namespace tofcomp::calibration

@@ -75,6 +75,9 @@ void add_tile_of(long rows, long columns, const double* x, long ldx, const doubl
   }
 }
 
+// Doubles in a 64-byte cache line.
+constexpr long kDoublesPerLine = 8;
+
 inline long smaller(long a, long b) { return a < b ? a : b; }
 
 }  // namespace
@@ -132,6 +135,14 @@ void subtract_product(const double* h, long n, long p, long ldh, const double* t
     const __m256d t = _mm256_set1_pd(theta[i]);
     long k = 0;
     for (; k + kLanes <= n; k += kLanes) {
+      // The same column's next n rows, which the sweep's next chunk reads: a chunk's column of
+      // 512 doubles is one 4 KB page, where the hardware's prefetcher stops, so each column of
+      // each chunk otherwise starts from main memory (at p = 17 this product was the sweep's
+      // largest cost, for p multiply-adds a range). A prefetch never faults: past the matrix's
+      // last row it only costs a line.
+      if (k % kDoublesPerLine == 0) {
+        _mm_prefetch(reinterpret_cast<const char*>(column + n + k), _MM_HINT_T1);
+      }
       _mm256_storeu_pd(e + k,
                        _mm256_fnmadd_pd(_mm256_loadu_pd(column + k), t, _mm256_loadu_pd(e + k)));
     }

@@ -21,6 +21,17 @@ namespace {
 // condition number is above this (a covariance this near singular takes the pseudo-inverse).
 constexpr double kSmootherReciprocalCondition = 1e-12;
 
+// λ_min / λ_max of a symmetric 2 × 2 matrix, in closed form (Eigen's LLT::rcond estimates the
+// 1-norm's by iteration, which cost the smoother as much as its own arithmetic): λ_max =
+// mean + √(half-difference² + b²), λ_min = det / λ_max, free of the cancellation of mean − √….
+// 0 when the matrix is not positive definite.
+double reciprocal_condition(const Eigen::Matrix2d& m) {
+  const double largest = 0.5 * (m(0, 0) + m(1, 1)) + std::hypot(0.5 * (m(0, 0) - m(1, 1)), m(0, 1));
+  if (!(largest > 0.0)) return 0.0;
+  const double smallest = (m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0)) / largest;
+  return std::max(smallest / largest, 0.0);
+}
+
 void symmetrize(Eigen::Matrix2d& m) {
   const double off = 0.5 * (m(0, 1) + m(1, 0));
   m(0, 1) = off;
@@ -254,10 +265,9 @@ SmoothedThermalRecord smooth_thermal_record(
     // (a fifth of the smoother's time went to a 2 × 2 pivoted QR), else by the pseudo-inverse,
     // which keeps a singular P_p (no process noise and a collapsed covariance) finite.
     const Eigen::Matrix2d right = step.hold.a * f.covariance;
-    const Eigen::LLT<Eigen::Matrix2d> cholesky(p.covariance);
     const Eigen::Matrix2d gain =
-        (cholesky.info() == Eigen::Success && cholesky.rcond() > kSmootherReciprocalCondition
-             ? Eigen::Matrix2d(cholesky.solve(right))
+        (reciprocal_condition(p.covariance) > kSmootherReciprocalCondition
+             ? Eigen::Matrix2d(Eigen::LLT<Eigen::Matrix2d>(p.covariance).solve(right))
              : Eigen::Matrix2d(p.covariance.completeOrthogonalDecomposition().solve(right)))
             .transpose();
     smoothed.mean = f.mean + gain * (smoothed.mean - p.mean);
