@@ -161,14 +161,16 @@ class TermFitter {
                   const std::vector<Eigen::Index>& rows_or_all) const {
     const std::vector<Eigen::Index> rows = all_rows_if_empty(rows_or_all, data_.size());
     Screened out;
-    core::Term term = candidate;
+    // The term's constants (a linear form's centre, scale and range, the knots) from the
+    // ranges it is fitted on: a fold's fit must not know the covariate values it is scored on.
+    core::Term term = on_rows(candidate, candidate.time_constant_s, rows);
     if (term.needs_time_constant()) {
       const auto& grid = core::kTimeConstantGridS;
       for (std::size_t i = 0; i < grid.size(); ++i) {
-        const double v = short_fit(held, at_time_constant(candidate, grid[i]), rows);
+        const double v = short_fit(held, on_rows(candidate, grid[i], rows), rows);
         if (v > out.grid_value) out.grid_value = v, out.grid_index = i;
       }
-      term = at_time_constant(candidate, grid[out.grid_index]);
+      term = on_rows(candidate, grid[out.grid_index], rows);
     }
     std::optional<Fitted> best;
     for (int s = 0; s < starts_of(held, term); ++s) {
@@ -221,8 +223,9 @@ class TermFitter {
     return {FoldModel{std::move(ext.spec), em.fit}, em.log_likelihood};
   }
 
-  core::Term at_time_constant(const core::Term& t, double tau) const {
-    return data_.covariates().make_term(t.parameter, t.covariate, t.form, t.mode, tau);
+  // The term at time constant τ, its constants from `rows`.
+  core::Term on_rows(const core::Term& t, double tau, const std::vector<Eigen::Index>& rows) const {
+    return data_.covariates().make_term(t.parameter, t.covariate, t.form, t.mode, tau, rows);
   }
 
   double short_fit(const FoldModel& held, const core::Term& t,
@@ -246,7 +249,7 @@ class TermFitter {
     const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
     double a = hi - ratio * (hi - lo), b = lo + ratio * (hi - lo);
     const auto value = [&](double log_tau) {
-      return short_fit(held, at_time_constant(t, std::exp(log_tau)), rows);
+      return short_fit(held, on_rows(t, std::exp(log_tau), rows), rows);
     };
     double fa = value(a), fb = value(b);
     for (int step = 0; step < kGoldenSteps; ++step) {
@@ -261,7 +264,7 @@ class TermFitter {
       }
     }
     if (std::max(fa, fb) <= screened.grid_value) return std::nullopt;
-    return at_time_constant(t, fa >= fb ? std::exp(a) : std::exp(b));
+    return on_rows(t, fa >= fb ? std::exp(a) : std::exp(b), rows);
   }
 
   const SearchData& data_;

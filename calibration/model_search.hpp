@@ -37,9 +37,11 @@
 // dependence on the others comes from the ranges it is made on); only a candidate fitted to
 // convergence can be named and kept.
 //
-// The terms' time constants (a decay's τ, the junction lag's τ) are profiled on the fold's own
-// training ranges: a few EM iterations at each τ of a grid (the screen), then, for a candidate
-// fitted to convergence, a golden-section search between the best point's neighbours. One more
+// A term's shape (a linear form's centre, scale and covariate range, the knots, the bins' edges)
+// is taken from the fold's own training ranges, never from the ranges it is scored on, and its
+// time constant (a decay's τ, the junction lag's τ) is profiled on them too: a few EM
+// iterations at each τ of a grid (the screen), then, for a candidate fitted to convergence, a
+// golden-section search between the best point's neighbours. One more
 // mode is tried split from each mode, the outlier component from the held modes and from the
 // trimmed residuals' modes; the best start by the training likelihood is the screen's, and goes
 // on to convergence.

@@ -27,7 +27,8 @@ namespace tofcomp::cli {
 //   mode (1-based, a mode-offset term), p_value, critical_p, held_out_gain,
 //   figure ("curve", "bins", "runs" or "density"), files {ranges, curve, bins, runs, density},
 //   fitted: what the calibration holds of a kept term, as its file has it (null when not kept):
-//   {coefficients_mm, time_constant_s, centre, scale, slope_mm_per_unit (linear), knots} of a bias
+//   {coefficients_mm, time_constant_s, centre, scale, slope_mm_per_unit and covariate_range
+//   (linear; the range only where the term holds beyond it), knots} of a bias
 //   or offset term,
 //   {edges, variances_mm2 | weights} of bins, {transition}, {outlier_weight, outlier_span_mm},
 //   {modes: [{offset_mm, std_mm, weight}]}}].

@@ -184,6 +184,13 @@ Term CovariateTable::make_term(Parameter parameter, Covariate covariate, Form fo
     }
     term.centre = mean;
     term.scale = spread;
+    // The time since the start is the one covariate that always leaves the range it was fitted
+    // on, and a drift in it is meant to go on: it is not held.
+    if (term.is_mean_term() && covariate != Covariate::Time) {
+      const auto [low, high] = std::minmax_element(sample.begin(), sample.end());
+      term.covariate_low = *low;
+      term.covariate_high = *high;
+    }
   } else if (form == Form::Smooth) {
     term.knots.resize(kSmoothKnots);
     for (int i = 0; i < kSmoothKnots; ++i) {
@@ -219,7 +226,7 @@ Eigen::VectorXi CovariateTable::bins(const Term& term) const {
 void term_design_row(const Term& term, double c, Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row) {
   switch (term.form) {
     case Form::Linear:
-      row[0] = (c - term.centre) / term.scale;
+      row[0] = (std::clamp(c, term.covariate_low, term.covariate_high) - term.centre) / term.scale;
       return;
     case Form::Decay:
       row[0] = std::exp(-std::max(c, 0.0) / term.time_constant_s);

@@ -8,6 +8,8 @@
 namespace tofcomp::core {
 namespace {
 
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
 template <typename Enum, std::size_t N>
 Enum parse_token(const std::string& token, const std::array<Enum, N>& values,
                  const char* (*token_of)(Enum), const char* what) {
@@ -223,6 +225,10 @@ void Term::validate() const {
   }
   if (form == Form::Linear && !(scale > 0.0 && std::isfinite(scale) && std::isfinite(centre))) {
     fail("needs a finite centre and a positive scale");
+  }
+  if (!(covariate_low <= covariate_high) || covariate_low == kInfinity ||
+      covariate_high == -kInfinity) {
+    fail("needs a covariate range whose low end is not above its high end");
   }
   if (form == Form::Smooth && knots.size() != kSmoothKnots) {
     fail("needs " + std::to_string(kSmoothKnots) + " knots");

@@ -15,8 +15,10 @@
 //   extra mode     -                            M + 1 modes
 //   outliers       -                            a uniform component of weight ε
 //
-// The forms: linear, f(c) = (c − c̄)/s (standardized); smooth, piecewise-linear hat functions on
-// knots at the covariate's quantiles (constant beyond the end knots); decay, exp(−c/τ) with τ
+// The forms: linear, f(c) = (c − c̄)/s (standardized; for a mean term held constant beyond the
+// covariate's range on the data it was fitted on); smooth, piecewise-linear hat functions on
+// knots at the covariate's quantiles (constant beyond the end knots: a linear time drift is the
+// one form carried on beyond its data, which the future always exceeds); decay, exp(−c/τ) with τ
 // profiled by the search; bins, a parameter value per quantile bin. A spread or weights term of
 // the linear or decay form is evaluated on kNoiseLevels levels of f, equally spaced between its
 // extremes on the data (its knots are the levels' edges in the covariate's units): within
@@ -34,6 +36,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 #include <string>
 
 namespace tofcomp::core {
@@ -99,6 +102,14 @@ struct Term {
   Eigen::VectorXd knots;
   double centre = 0.0;
   double scale = 1.0;
+  // A linear mean term's covariate range on the ranges it was fitted on: beyond it f holds its
+  // value at the nearer end, as the smooth form does beyond its end knots, so a slope fitted on
+  // the bulk of a covariate is not carried out to values it never saw (a heating rate's slope
+  // fitted between 0.015 and 0.1 °C/min, carried to a power-on's 2.5 °C/min, moved those ranges
+  // by tens of millimetres). Infinite: unbounded (a file written before the bound, and a drift in
+  // time, whose covariate always leaves the range it was fitted on).
+  double covariate_low = -std::numeric_limits<double>::infinity();
+  double covariate_high = std::numeric_limits<double>::infinity();
 
   EffectLabel label() const { return {parameter, covariate}; }
   bool is_mean_term() const {  // adds design columns (bias, a mode's offset)

@@ -17,6 +17,10 @@ void emit_term(YAML::Emitter& out, const core::Term& t) {
   if (t.form == core::Form::Linear) {
     out << YAML::Key << "centre" << YAML::Value << t.centre;
     out << YAML::Key << "scale" << YAML::Value << t.scale;
+    if (std::isfinite(t.covariate_low) && std::isfinite(t.covariate_high)) {
+      emit_vector(out, "covariate_range",
+                  Eigen::Vector2d(t.covariate_low, t.covariate_high));
+    }
   }
   if (t.knots.size() > 0) emit_vector(out, t.is_noise_term() ? "edges" : "knots", t.knots);
 }
@@ -38,6 +42,14 @@ core::Term read_term(const YamlMap& x) {
   t.time_constant_s = x.number_or("time_constant_s", 0.0);
   t.centre = x.number_or("centre", 0.0);
   t.scale = x.number_or("scale", 1.0);
+  if (x.has("covariate_range")) {
+    const Eigen::VectorXd range = read_vector(x, "covariate_range");
+    if (range.size() != 2 || !range.allFinite()) {
+      x.fail("covariate_range", "must be two finite numbers, low and high");
+    }
+    t.covariate_low = range[0];
+    t.covariate_high = range[1];
+  }
   if (x.has("knots")) t.knots = read_vector(x, "knots");
   if (x.has("edges")) t.knots = read_vector(x, "edges");
   try {
@@ -180,7 +192,7 @@ core::ModelExtension read_version_2(const YamlMap& top, const core::MixtureParam
     for (std::size_t i = 0; i < terms.size(); ++i) {
       const YamlMap t(terms[i], x.child_path("terms") + "[" + std::to_string(i) + "]",
                       {"parameter", "mode", "covariate", "form", "time_constant_s", "centre",
-                       "scale", "knots", "coefficients_mm"});
+                       "scale", "covariate_range", "knots", "coefficients_mm"});
       e.mean_terms.push_back({read_term(t), read_vector(t, "coefficients_mm")});
     }
   }

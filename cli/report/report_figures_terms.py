@@ -67,8 +67,10 @@ def fitted_text(entry):
                     f"γ·exp(−c/τ).")
         if form == "linear":
             lag = (f", τ = {f['time_constant_s']:.4g} s" if "time_constant_s" in f else "")
+            held = (f", constant outside {f['covariate_range'][0]:.4g} to "
+                    f"{f['covariate_range'][1]:.4g} {unit}" if "covariate_range" in f else "")
             return (f"Fitted: γ = {c[0]:.4g} mm on (c − {f['centre']:.4g}) / {f['scale']:.4g}, "
-                    f"{f['slope_mm_per_unit']:.4g} mm per {unit}{lag}.")
+                    f"{f['slope_mm_per_unit']:.4g} mm per {unit}{lag}{held}.")
         return (f"Fitted: coefficients {', '.join(format(x, '.4g') for x in c)} mm on hat "
                 f"functions at the knots {', '.join(format(x, '.4g') for x in f['knots'])} "
                 f"{unit}.")

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -26,7 +27,8 @@ enum class Injected {
   ModePersistence,
   ModeOffsetWithTemperature,
   WeightsWithTemperature,
-  SpreadWithTemperature
+  SpreadWithTemperature,
+  SaturatingHeatingRate
 };
 
 struct Record {
@@ -42,6 +44,12 @@ constexpr double kAmbientWaveC = 1.5;      // the room's slow wave, so that the 
 constexpr double kAmbientPeriodS = 7200.0;  // temperature is no function of its heating rate
 constexpr double kRiseC = 7.0;         // the junction's rise above the ambient when on
 constexpr double kHeatingTauS = 700.0;  // and its time constant
+constexpr double kFastRiseC = 2.0;  // a fast part of the junction's rise at each power-on
+constexpr double kFastTauS = 10.0;  // and its time constant
+
+double fast_rise(double since_on_s) {
+  return since_on_s < 0.0 ? 0.0 : kFastRiseC * (1.0 - std::exp(-since_on_s / kFastTauS));
+}
 
 // A record of `cycles` power cycles of unequal lengths (on 15-30 min, off 5-25 min), ranges at
 // 1 Hz while on, the junction a first-order rise and fall, the paper's bias a quadratic of it, two
@@ -62,17 +70,32 @@ Record draw_record(Injected effect, unsigned seed, int cycles = 5) {
     const double on_s = 900.0 + 900.0 * unit(rng), off_s = 300.0 + 1200.0 * unit(rng);
     if (c > 0) d.power_changes.push_back({t, true});
     const double switched_on = t;
+    // With the saturating heating-rate effect the junction also has a fast part (its own rise
+    // over the case at each power-on), which puts a power-on's few ranges far out in the heating
+    // rate's tail.
+    const auto junction_at = [&](double slow_c, double time_s) {
+      return slow_c + (effect == Injected::SaturatingHeatingRate ? fast_rise(time_s - switched_on) : 0.0);
+    };
     for (double s = 0.0; s < on_s; s += 1.0 / kRateHz, t += 1.0 / kRateHz) {
       const double ambient = kAmbientC + kAmbientWaveC * std::sin(2.0 * M_PI * t / kAmbientPeriodS);
+      const double previous_junction = junction_at(temperature, t - 1.0 / kRateHz);
       temperature +=
           (ambient + kRiseC - temperature) * (1.0 - std::exp(-1.0 / kRateHz / kHeatingTauS));
+      const double junction_c = junction_at(temperature, t);
       history_t.push_back(t);
-      history_j.push_back(temperature);
-      const double x = temperature - 25.0;
+      history_j.push_back(junction_c);
+      const double x = junction_c - 25.0;
       double bias = 0.6 * x - 0.08 * x * x;
       double shift = 0.0;
       if (effect == Injected::WarmUp) bias += 3.0 * std::exp(-(t - switched_on) / 240.0);
       if (effect == Injected::TimeDrift) bias += 0.4 * t / 3600.0;
+      if (effect == Injected::SaturatingHeatingRate) {
+        // A bias that follows the heating rate up to 0.1 °C/min and stays there above it: a
+        // term shaped on one fold's slow heating, carried to the other's power-ons (up to
+        // 12 °C/min), would move their ranges by centimetres.
+        const double rate_c_per_min = 60.0 * (junction_c - previous_junction) * kRateHz;
+        bias += 2.0 * std::clamp(rate_c_per_min / 0.1, 0.0, 1.0);
+      }
       if (effect == Injected::ModePersistence && times.size() > 0) {
         mode = unit(rng) < 0.92 ? mode : 1 - mode;
       } else if (effect == Injected::WeightsWithTemperature) {
@@ -88,7 +111,7 @@ Record draw_record(Injected effect, unsigned seed, int cycles = 5) {
       }
       times.push_back(t);
       ranges.push_back(std::round(y));
-      junction.push_back(temperature);
+      junction.push_back(junction_c);
       in_history.push_back(static_cast<int>(history_t.size()) - 1);
     }
     d.power_changes.push_back({t, false});
@@ -199,7 +222,9 @@ INSTANTIATE_TEST_SUITE_P(
         Case{Injected::WeightsWithTemperature,
              {core::Parameter::Weights, core::Covariate::JunctionTemperature}},
         Case{Injected::SpreadWithTemperature,
-             {core::Parameter::Spread, core::Covariate::JunctionTemperature}}));
+             {core::Parameter::Spread, core::Covariate::JunctionTemperature}},
+        Case{Injected::SaturatingHeatingRate,
+             {core::Parameter::Bias, core::Covariate::HeatingRate}}));
 
 constexpr double kCriticalTTolerance = 0.05;
 

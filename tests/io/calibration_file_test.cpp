@@ -195,6 +195,8 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   offset.mode = 1;
   offset.centre = 26.125;
   offset.scale = 1.0 / 7.0;
+  offset.covariate_low = 24.5;
+  offset.covariate_high = 28.0 + 1.0 / 3.0;
   core::Term lag = term(core::Parameter::Bias, core::Covariate::JunctionLag, core::Form::Linear);
   lag.time_constant_s = 1000.0 / 3.0;
   lag.scale = 0.25;
@@ -233,6 +235,8 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
     EXPECT_EQ(a.centre, b.centre);
     EXPECT_EQ(a.scale, b.scale);
     EXPECT_EQ(a.time_constant_s, b.time_constant_s);
+    EXPECT_EQ(a.covariate_low, b.covariate_low);  // −∞ and ∞ (no range) stay unbounded
+    EXPECT_EQ(a.covariate_high, b.covariate_high);
     EXPECT_EQ(x.mean_terms[i].coefficients, e.mean_terms[i].coefficients);
   }
   EXPECT_EQ(x.extended_mixture.weight_bins->term.covariate, core::Covariate::TimeSincePowerOn);
@@ -317,6 +321,27 @@ TEST(CalibrationFile, VersionOneExtensionsStillLoad) {
   std::ofstream(file) << replaced(plain, "version: 1", "version: 2") +
                              "extension:\n  effect: outliers\n";
   EXPECT_THROW(read_calibration_file(file), YamlSchemaError);
+}
+
+// A linear term's covariate range: two numbers, low then high.
+TEST(CalibrationFile, ALinearTermsCovariateRangeIsCheckedWhereItStands) {
+  core::Calibration c = example();
+  c.extension = core::ModelExtension{};
+  core::Term drift = term(core::Parameter::Bias, core::Covariate::Time, core::Form::Linear);
+  drift.covariate_low = 0.5;
+  drift.covariate_high = 7.25;
+  c.extension->effects = {drift.label()};
+  c.extension->mean_terms = {{drift, Eigen::VectorXd::Constant(1, 0.25)}};
+  c.extension->extended_mixture = core::without_extensions(c.model.mixture);
+  const std::string good = calibration_to_yaml(c);
+  ASSERT_NE(good.find("covariate_range: [0.5, 7.25]"), std::string::npos) << good;
+  const std::string reversed = error_of(replaced(good, "[0.5, 7.25]", "[7.25, 0.5]"));
+  EXPECT_NE(reversed.find("extension.terms[0]"), std::string::npos) << reversed;
+  EXPECT_NE(reversed.find("low end is not above its high end"), std::string::npos) << reversed;
+  const std::string one = error_of(replaced(good, "[0.5, 7.25]", "[0.5]"));
+  EXPECT_NE(one.find("extension.terms[0].covariate_range must be two finite numbers"),
+            std::string::npos)
+      << one;
 }
 
 TEST(CalibrationFile, ExtensionErrorsNameTheKey) {

@@ -1,0 +1,102 @@
+// core/covariate_table: a term's constants come from the ranges it is made on, and a linear mean
+// term holds its value beyond the covariate range it was made on (the answers follow from the
+// definitions: f(c) = (clamp(c, low, high) − centre) / scale).
+#include "core/covariate_table.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace tofcomp::core {
+namespace {
+
+constexpr Eigen::Index kRanges = 100;
+
+// Time 0..99 s, the time since power-on the same; the junction 20 °C rising 0.1 °C a range,
+// but for the last ten ranges, which jump to 60 °C.
+CovariateTable table() {
+  CovariateSeries s;
+  s.time_s = Eigen::VectorXd::LinSpaced(kRanges, 0.0, static_cast<double>(kRanges - 1));
+  s.junction_c = 20.0 + 0.1 * s.time_s.array();
+  s.junction_c.tail(10).setConstant(60.0);
+  s.time_since_power_on_s = s.time_s;
+  return CovariateTable(std::move(s));
+}
+
+std::vector<Eigen::Index> first_ninety() {
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index k = 0; k < 90; ++k) rows.push_back(k);
+  return rows;
+}
+
+TEST(CovariateTerm, ALinearMeanTermsRangeIsThatOfTheRowsItIsMadeOn) {
+  const CovariateTable c = table();
+  const Term on_rows = c.make_term(Parameter::Bias, Covariate::JunctionTemperature, Form::Linear,
+                                   -1, 0.0, first_ninety());
+  EXPECT_DOUBLE_EQ(on_rows.covariate_low, 20.0);
+  EXPECT_NEAR(on_rows.covariate_high, 28.9, 1e-12);
+  EXPECT_NEAR(on_rows.centre, 24.45, 1e-12);  // the mean of 20.0, 20.1, ..., 28.9
+  const Term on_all =
+      c.make_term(Parameter::Bias, Covariate::JunctionTemperature, Form::Linear, -1, 0.0);
+  EXPECT_DOUBLE_EQ(on_all.covariate_high, 60.0);
+}
+
+TEST(CovariateTerm, ALinearMeanTermHoldsItsValueBeyondItsRange) {
+  const CovariateTable c = table();
+  const Term term = c.make_term(Parameter::Bias, Covariate::JunctionTemperature, Form::Linear,
+                                -1, 0.0, first_ninety());
+  const Eigen::MatrixXd columns = c.columns(term);
+  const double at_high = (28.9 - term.centre) / term.scale;
+  for (Eigen::Index k = 90; k < kRanges; ++k) EXPECT_NEAR(columns(k, 0), at_high, 1e-12);
+  // Inside the range: the standardized covariate itself.
+  EXPECT_NEAR(columns(50, 0), (25.0 - term.centre) / term.scale, 1e-12);
+  // Below it: the low end's value.
+  Eigen::RowVectorXd row(1);
+  term_design_row(term, -40.0, row);
+  EXPECT_NEAR(row[0], (20.0 - term.centre) / term.scale, 1e-12);
+}
+
+// The time since the start always leaves the range a term was fitted on, and a linear drift
+// goes on: a linear time term gets no range.
+TEST(CovariateTerm, ALinearDriftInTimeGoesOnBeyondTheDataItWasFittedOn) {
+  const CovariateTable c = table();
+  const Term linear =
+      c.make_term(Parameter::Bias, Covariate::Time, Form::Linear, -1, 0.0, first_ninety());
+  EXPECT_EQ(linear.covariate_low, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(linear.covariate_high, std::numeric_limits<double>::infinity());
+  Eigen::RowVectorXd row(1);
+  term_design_row(linear, 2.0, row);  // 2 h, beyond the first 89 s it was fitted on
+  EXPECT_NEAR(row[0], (2.0 - linear.centre) / linear.scale, 1e-12);
+}
+
+TEST(CovariateTerm, ATermWithoutARangeIsUnbounded) {
+  Term term;
+  term.parameter = Parameter::Bias;
+  term.covariate = Covariate::Time;
+  term.form = Form::Linear;
+  term.centre = 1.0;
+  term.scale = 2.0;
+  term.validate();
+  Eigen::RowVectorXd row(1);
+  term_design_row(term, 101.0, row);
+  EXPECT_DOUBLE_EQ(row[0], 50.0);
+}
+
+TEST(CovariateTerm, ARangeWhoseEndsAreReversedOrNotANumberIsRefused) {
+  Term term;
+  term.parameter = Parameter::Bias;
+  term.covariate = Covariate::Time;
+  term.form = Form::Linear;
+  term.covariate_low = 2.0;
+  term.covariate_high = 1.0;
+  EXPECT_THROW(term.validate(), InvalidInput);
+  term.covariate_high = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(term.validate(), InvalidInput);
+}
+
+}  // namespace
+}  // namespace tofcomp::core
