@@ -73,11 +73,17 @@ TEST(CovariateTerm, ALinearDriftInTimeGoesOnBeyondTheDataItWasFittedOn) {
   EXPECT_NEAR(row[0], (2.0 - linear.centre) / linear.scale, 1e-12);
 }
 
-TEST(CovariateTerm, ATermWithoutARangeIsUnbounded) {
+// A linear bias on the time, centre 0 and scale 1, without a range.
+Term linear_time_bias() {
   Term term;
   term.parameter = Parameter::Bias;
   term.covariate = Covariate::Time;
   term.form = Form::Linear;
+  return term;
+}
+
+TEST(CovariateTerm, ATermWithoutARangeIsUnbounded) {
+  Term term = linear_time_bias();
   term.centre = 1.0;
   term.scale = 2.0;
   term.validate();
@@ -87,10 +93,7 @@ TEST(CovariateTerm, ATermWithoutARangeIsUnbounded) {
 }
 
 TEST(CovariateTerm, ARangeWhoseEndsAreReversedOrNotANumberIsRefused) {
-  Term term;
-  term.parameter = Parameter::Bias;
-  term.covariate = Covariate::Time;
-  term.form = Form::Linear;
+  Term term = linear_time_bias();
   term.covariate_low = 2.0;
   term.covariate_high = 1.0;
   EXPECT_THROW(term.validate(), InvalidInput);
