@@ -9,6 +9,7 @@ For every DIR/data/<id>.csv that has a truth DIR/truth/<id>.json it runs
     search.kept        list of {parameter, covariate, ...}, in the order the effects were added
     search.best        {parameter, covariate, ...} of the top-ranked candidate, or null
     search.mae_mm.final / search.mae_mm.base   {"200": mm, "400": mm, "800": mm}
+    search.windows_not_compared  (optional) windows left out of mae_mm (a short record's blocks)
     trained_model.modes  (optional) the lasing modes of the model the search started from
     search.steps[0].not_told_apart  (optional) candidates the data do not tell from the first named
     junction_recheck.chosen  (optional) which start a re-check of the junction kept, or null
@@ -100,6 +101,12 @@ def parse_output(stdout):
         if isinstance(modes, bool) or not isinstance(modes, int) or modes < 1:
             raise ContractError("trained_model.modes is not a positive integer (%r)" % (modes,))
         out["modes"] = modes
+    # A window the detector says it did not compare (longer than a short record's held-out
+    # blocks) has no MAE: None, and no ratio.
+    not_compared = s.get("windows_not_compared", [])
+    if not isinstance(not_compared, list):
+        raise ContractError("search.windows_not_compared is not a list")
+    not_compared = {str(w) for w in not_compared}
     for part in ("final", "base"):
         m = mae.get(part)
         if not isinstance(m, dict):
@@ -107,6 +114,9 @@ def parse_output(stdout):
         vals = {}
         for w in WINDOWS:
             if w not in m:
+                if w in not_compared:
+                    vals[w] = None
+                    continue
                 raise ContractError("missing field: search.mae_mm.%s.%s" % (part, w))
             vals[w] = number(m[w], "search.mae_mm.%s.%s" % (part, w))
         out[part] = vals
@@ -292,7 +302,9 @@ def evaluate(truths, runs):
                             "counterpart_mae_base": rc["result"]["base"]})
         if r["ok"] and rc is not None and rc["ok"]:
             row["mae_ratio"] = {w: (row["mae_final"][w] / row["counterpart_mae_final"][w]
-                                    if row["counterpart_mae_final"][w] > 0 else None)
+                                    if row["mae_final"][w] is not None
+                                    and row["counterpart_mae_final"][w] is not None
+                                    and row["counterpart_mae_final"][w] > 0 else None)
                                 for w in WINDOWS}
         sets.append(row)
 

@@ -5,7 +5,8 @@
 # and gaps between offsets (the common offset is θ's, not the modes'), three modes predicting
 # held-out ranges better than two, and the held-out log-likelihood per scored range the twin's
 # own (minus the entropy of its rounded ranges); the text says the same as the JSON. Then from a calibration
-# trained with --modes 2: two modes, as given.
+# trained with --modes 2: two modes, as given, and the d̂ windows longer than this short record's
+# held-out blocks listed as not compared.
 set -euo pipefail
 tofcomp=$1
 root=$2
@@ -76,5 +77,21 @@ expect(given["best_held_out_log_likelihood_by_modes"] is None, "held-out figures
 given_text = open(f"{work}/given.txt").read()
 expect(re.search(r"^the trained model \(the search's start\): basis .*, 2 modes \(as given\)$",
                  given_text, re.M), "the text does not say the two modes were given")
-print("diagnose names its trained model: 3 modes chosen from the data, 2 as given")
+# The record is short for the default windows: the search's blocks hold ranges // 20 (two folds
+# of ten blocks each) when that is below the longest window, and a window longer than a block is
+# not compared: left out of mae_mm, listed, and said in the text.
+search = json.load(open(f"{work}/given.json"))["search"]
+block = min(800, ranges // 20)
+expect(search["block"] == block, f"blocks of {search['block']} ranges, expected {block}")
+longer = [w for w in (200, 400, 800) if w > block]
+expect(longer, f"blocks of {block} ranges hold every default window: the check below is empty")
+expect(search["windows_not_compared"] == longer, f"not compared: {search['windows_not_compared']}")
+for part in ("base", "final"):
+    expect(sorted(search["mae_mm"][part], key=int) == [str(w) for w in (200, 400, 800) if w <= block],
+           f"mae_mm.{part}: {search['mae_mm'][part]}")
+for w in longer:
+    expect(f"window {w:>4}: not compared: longer than this record's held-out blocks ({block} ranges)"
+           in given_text, f"the text does not say window {w} was not compared")
+print("diagnose names its trained model: 3 modes chosen from the data, 2 as given; "
+      f"windows {longer} not compared on blocks of {block} ranges")
 PY
