@@ -70,6 +70,11 @@ def headline_section(diagnosis):
                          td(mm(bound.get(w))), td(ratio(over.get("base", {}).get(w))),
                          td(ratio(over.get("final", {}).get(w)))]))
     rows.append("</table>")
+    not_compared = search.get("windows_not_compared") or []
+    if not_compared:
+        rows.append(f'<p id="windows-not-compared">Not compared: window '
+                    f"{escape(', '.join(str(w) for w in not_compared))}, longer than this "
+                    f"record's held-out blocks ({escape(search.get('block', '–'))} ranges).</p>")
     return (f'<div class="summary" id="headline"><p>{verdict} {named}</p>'
             f"<p>The error of d̂ on held-out windows (each window scored by the fold that did not "
             f"see it), the trained model against the model with the kept terms; the MAE factor "

@@ -145,6 +145,17 @@ for w in windows:
     expect(cells == wanted, f"headline, window {w}: {cells} where the JSON says {wanted}")
     close(search["mae_factor"][w], search["mae_mm"]["base"][w] / search["mae_mm"]["final"][w],
           f"the MAE factor of window {w}")
+# The windows longer than the held-out blocks are said to be not compared, as the JSON lists them.
+not_compared = search["windows_not_compared"]
+expect(sorted(not_compared + [int(w) for w in windows]) == [200, 400, 800],
+       f"compared {windows} and not {not_compared}: not the default windows")
+said = re.search(r"Not compared: window ([0-9, ]+), longer than this record's held-out blocks "
+                 r"\(([0-9]+) ranges\)", head_text)
+if not_compared:
+    expect(said and said.group(1) == ", ".join(map(str, not_compared))
+           and int(said.group(2)) == search["block"], f"headline on windows not compared: {head_text!r}")
+else:
+    expect(not said, "the headline lists windows not compared where the JSON lists none")
 
 # The paper's figures, each in a caption of its own; Fig. 4 on a logarithmic colour scale.
 for number in figures_expected:
