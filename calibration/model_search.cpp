@@ -163,15 +163,16 @@ class TermFitter {
     Screened out;
     // The term's constants (a linear form's centre, scale and range, the knots) from the
     // ranges it is fitted on: a fold's fit must not know the covariate values it is scored on.
-    core::Term term = on_rows(candidate, candidate.time_constant_s, rows);
-    if (term.needs_time_constant()) {
+    double tau = candidate.time_constant_s;
+    if (candidate.needs_time_constant()) {
       const auto& grid = core::kTimeConstantGridS;
       for (std::size_t i = 0; i < grid.size(); ++i) {
         const double v = short_fit(held, on_rows(candidate, grid[i], rows), rows);
         if (v > out.grid_value) out.grid_value = v, out.grid_index = i;
       }
-      term = on_rows(candidate, grid[out.grid_index], rows);
+      tau = grid[out.grid_index];
     }
+    const core::Term term = on_rows(candidate, tau, rows);
     std::optional<Fitted> best;
     for (int s = 0; s < starts_of(held, term); ++s) {
       Fitted f = run(held, term, rows, s, kScreenIterations);
@@ -372,12 +373,18 @@ void held_out_window_errors(const SearchData& data, const FoldModel& model, cons
 // the training's with the final model's.
 using WindowErrors = std::vector<std::vector<double>>;
 
-std::vector<Eigen::Index> compared_windows(const Folds& folds, const ModelSearchOptions& options) {
+// The windows a held-out block holds (`fits` true) or does not.
+std::vector<Eigen::Index> windows_by_fit(const Folds& folds, const ModelSearchOptions& options,
+                                         bool fits) {
   std::vector<Eigen::Index> windows;
   for (const Eigen::Index w : options.windows) {
-    if (w <= folds.block) windows.push_back(w);
+    if ((w <= folds.block) == fits) windows.push_back(w);
   }
   return windows;
+}
+
+std::vector<Eigen::Index> compared_windows(const Folds& folds, const ModelSearchOptions& options) {
+  return windows_by_fit(folds, options, true);
 }
 
 WindowErrors window_errors_of(const SearchData& data, const std::array<FoldModel, kFolds>& model,
@@ -522,6 +529,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
   ModelSearchResult result;
   result.block = folds.block;
   result.blocks = folds.blocks;
+  result.windows_not_compared = windows_by_fit(folds, options, false);
   result.basis_directions_held = search_data.directions_undetermined_by_a_half();
 
   // The training's model on each fold, from its fit on all the data.

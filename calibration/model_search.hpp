@@ -149,6 +149,9 @@ struct ModelSearchResult {
   Eigen::Index scored_ranges() const;
   Eigen::Index block = 0;             // ranges per block
   Eigen::Index blocks = 0;
+  // The d̂ windows of options.windows longer than a block, which no held-out block holds (the
+  // blocks shrink on a short record): the errors above leave them out.
+  std::vector<Eigen::Index> windows_not_compared;
   int candidates_per_step = 0;
   // Directions of the training's bias the search held at the training's fit: one half of the
   // ranges does not determine them (SearchData); the calibration it writes keeps them so.

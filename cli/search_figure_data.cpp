@@ -138,7 +138,7 @@ void write_term(const std::filesystem::path& dir, const SearchResiduals& r,
           fitted["scale"] = fit->term.scale;
           // f(c) = (c − centre) / scale: the coefficient per unit of the covariate.
           fitted["slope_mm_per_unit"] = fit->coefficients[0] / fit->term.scale;
-          if (std::isfinite(fit->term.covariate_low) && std::isfinite(fit->term.covariate_high)) {
+          if (fit->term.has_covariate_range()) {
             fitted["covariate_range"] = {fit->term.covariate_low, fit->term.covariate_high};
           }
         }

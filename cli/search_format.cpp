@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <string>
-#include <vector>
 
 namespace tofcomp::cli {
 namespace {
@@ -67,21 +66,9 @@ std::string errors_text(const std::vector<calibration::HeldOutError>& errors) {
   return text;
 }
 
-// The d̂ windows longer than the search's held-out blocks: the blocks shrink on a short record
-// (each fold keeps ten), and a window does not span two blocks, so these were not compared.
-std::vector<Eigen::Index> windows_not_compared(const calibration::ModelSearchResult& search,
-                                               const calibration::ModelSearchOptions& options) {
-  std::vector<Eigen::Index> out;
-  for (const Eigen::Index w : options.windows) {
-    if (w > search.block) out.push_back(w);
-  }
-  return out;
-}
-
-std::string windows_not_compared_text(const calibration::ModelSearchResult& search,
-                                      const calibration::ModelSearchOptions& options) {
+std::string windows_not_compared_text(const calibration::ModelSearchResult& search) {
   std::string text;
-  for (const Eigen::Index w : windows_not_compared(search, options)) {
+  for (const Eigen::Index w : search.windows_not_compared) {
     text += fmt::format(
         "    window {:>4}: not compared: longer than this record's held-out blocks ({} ranges)\n",
         w, search.block);
@@ -147,7 +134,7 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
           {"kept", kept},
           {"kept_from_training", search.carried_from_training},
           {"mae_mm", {{"base", base}, {"final", final}}},
-          {"windows_not_compared", windows_not_compared(search, options)},
+          {"windows_not_compared", search.windows_not_compared},
           {"held_out_log_likelihood",
            {{"base", search.base_held_out_log_likelihood},
             {"final", search.final_held_out_log_likelihood()},
@@ -211,7 +198,7 @@ std::string search_text(const calibration::ModelSearchResult& search,
     text += "the held-out error of d hat, the trained model -> the final one:\n";
     text += errors_text(search.errors);
   }
-  text += windows_not_compared_text(search, options);
+  text += windows_not_compared_text(search);
   for (std::size_t i = 0; i < search.steps.size(); ++i) {
     const auto& s = search.steps[i];
     text += fmt::format("step {} candidates (the first {} of {}):\n", i + 1,

@@ -110,6 +110,10 @@ struct Term {
   // time, whose covariate always leaves the range it was fitted on).
   double covariate_low = -std::numeric_limits<double>::infinity();
   double covariate_high = std::numeric_limits<double>::infinity();
+  bool has_covariate_range() const {  // held beyond a finite range
+    return covariate_low > -std::numeric_limits<double>::infinity() &&
+           covariate_high < std::numeric_limits<double>::infinity();
+  }
 
   EffectLabel label() const { return {parameter, covariate}; }
   bool is_mean_term() const {  // adds design columns (bias, a mode's offset)

@@ -17,7 +17,7 @@ void emit_term(YAML::Emitter& out, const core::Term& t) {
   if (t.form == core::Form::Linear) {
     out << YAML::Key << "centre" << YAML::Value << t.centre;
     out << YAML::Key << "scale" << YAML::Value << t.scale;
-    if (std::isfinite(t.covariate_low) && std::isfinite(t.covariate_high)) {
+    if (t.has_covariate_range()) {
       emit_vector(out, "covariate_range",
                   Eigen::Vector2d(t.covariate_low, t.covariate_high));
     }
