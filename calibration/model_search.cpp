@@ -442,6 +442,23 @@ std::optional<core::Term> carried_outliers(const core::Calibration& base) {
   return t;
 }
 
+// The family-wise level (model_search.hpp): the null law of the largest t over every candidate
+// of a step, those fitted to convergence by their final gains, the others by their screen's.
+// `order` ranks the candidates, its first one judged; `run_gains` are indexed by candidate.
+core::SignFlipMaxT step_max_t(const std::vector<std::size_t>& order,
+                              const std::vector<Eigen::VectorXd>& run_gains) {
+  const Eigen::Index runs = run_gains[order.front()].size();
+  std::vector<std::size_t> judged;
+  for (const std::size_t c : order) {
+    if (run_gains[c].size() == runs) judged.push_back(c);
+  }
+  Eigen::MatrixXd gains(runs, static_cast<Eigen::Index>(judged.size()));
+  for (std::size_t j = 0; j < judged.size(); ++j) {
+    gains.col(static_cast<Eigen::Index>(j)) = run_gains[judged[j]];
+  }
+  return core::SignFlipMaxT(gains);
+}
+
 }  // namespace
 
 Eigen::Index ModelSearchResult::scored_ranges() const {
@@ -499,6 +516,16 @@ std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariate
     add(p, Covariate::None, Form::None, -1);
   }
   return out;
+}
+
+std::size_t named_position(const std::vector<CandidateResult>& ranked, double critical_t) {
+  const auto passes = [&](const CandidateResult& r) {
+    return r.ok() && !r.screened_only && r.held_out_gain > 0.0 && r.t_statistic > critical_t;
+  };
+  const auto first_passing = std::find_if(ranked.begin(), ranked.end(), passes);
+  return first_passing == ranked.end()
+             ? 0
+             : static_cast<std::size_t>(first_passing - ranked.begin());
 }
 
 ModelSearchResult search_model(const MeasuredData& data, const core::Calibration& base,
@@ -649,8 +676,20 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
     });
     // Rank: those fitted to convergence by held-out gain, then the screened ones, failed last.
     by_gain(order);
+    std::optional<core::SignFlipMaxT> max_t;
+    if (s.candidates[order.front()].ok()) {
+      max_t.emplace(step_max_t(order, run_gains));
+      s.critical_t = max_t->critical_t(options.alpha);
+      s.critical_p = one_sided_p(s.critical_t,
+                                 static_cast<double>(run_gains[order.front()].size()));
+    }
     std::vector<CandidateResult> ranked;
     for (const std::size_t i : order) ranked.push_back(s.candidates[i]);
+    // The named candidate first, the others in rank order.
+    const auto named_at =
+        max_t ? static_cast<std::ptrdiff_t>(named_position(ranked, s.critical_t)) : 0;
+    std::rotate(order.begin(), order.begin() + named_at, order.begin() + named_at + 1);
+    std::rotate(ranked.begin(), ranked.begin() + named_at, ranked.begin() + named_at + 1);
     s.candidates = std::move(ranked);
     const auto fitted_count = std::count_if(s.candidates.begin(), s.candidates.end(),
                                             [](const CandidateResult& r) { return r.ok(); });
@@ -674,22 +713,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
         r.t_below_named = test.t;
         r.p_below_named = test.p;
       }
-      // The family-wise level (model_search.hpp): the null law of the largest t over every
-      // candidate of the step, those fitted to convergence by their final gains, the others by
-      // their screen's.
-      const Eigen::Index runs = run_gains[order.front()].size();
-      std::vector<std::size_t> judged;
-      for (const std::size_t c : order) {
-        if (run_gains[c].size() == runs) judged.push_back(c);
-      }
-      Eigen::MatrixXd gains(runs, static_cast<Eigen::Index>(judged.size()));
-      for (std::size_t j = 0; j < judged.size(); ++j) {
-        gains.col(static_cast<Eigen::Index>(j)) = run_gains[judged[j]];
-      }
-      const core::SignFlipMaxT max_t(gains);
-      s.critical_t = max_t.critical_t(options.alpha);
-      s.critical_p = one_sided_p(s.critical_t, static_cast<double>(runs));
-      s.family_wise_p = max_t.adjusted_p(named->t_statistic);
+      s.family_wise_p = max_t->adjusted_p(named->t_statistic);
       const std::array<FoldModel, kFolds>& best = fits[order.front()];
       const WindowErrors best_errors =
           window_errors_of(search_data, best, folds, options, threads);

@@ -11,18 +11,22 @@
 // range is scored once, by a fit that never saw it.
 //
 // Which term, and whether to keep it. A candidate's gain is the sum over all ranges of its score
-// less the held model's; the one with the largest gain is named. Given the junction
-// temperatures, blocks are independent under the held model, so the blocks' gains are a sample:
-// with n blocks, t = mean / (sd / √n) is Student's t with n − 1 degrees of freedom when the
-// candidate adds nothing, and a candidate fitted on other data that adds nothing cannot gain on
-// average (its extra parameters only cost). The named candidate is kept when its t exceeds the
-// point that the largest t of the step's candidates passes by chance with probability α: the max-T
-// method, its null law drawn by flipping the signs of the same runs for every candidate
-// (core/sign_flip_max_t.hpp). The chance that data with nothing missing keep anything at all is
-// then at most α, and candidates that gain on the same ranges (one covariate in several forms,
-// one term on each mode) count about once, where α / m (Bonferroni) counted each. Then the search
-// goes on from the model with it (forward selection), until nothing more passes or max_steps
-// terms are held.
+// less the held model's. Given the junction temperatures, blocks are independent under the held
+// model, so the blocks' gains are a sample: with n blocks, t = mean / (sd / √n) is Student's t
+// with n − 1 degrees of freedom when the candidate adds nothing, and a candidate fitted on other
+// data that adds nothing cannot gain on average (its extra parameters only cost). The level is
+// the point that the largest t of the step's candidates passes by chance with probability α:
+// the max-T method, its null law drawn by flipping the signs of the same runs for every
+// candidate (core/sign_flip_max_t.hpp). Named: the candidate with the largest gain among those
+// whose t passes the level; kept: it, when there is one; when none passes, the largest gain is
+// named and nothing kept. Because the level holds for all the step's candidates at once, the
+// chance that data with nothing missing keep anything at all is at most α whichever passing
+// candidate is named, and candidates that gain on the same ranges (one covariate in several
+// forms, one term on each mode) count about once, where α / m (Bonferroni) counted each. Naming
+// the largest gain outright let a gain made in a few runs (a power-on's transient: t 2.0, under
+// the level) hide one that most runs show (t 4.1, a little less gain), and keep neither. Then
+// the search goes on from the model with the kept term (forward selection), until nothing more
+// passes or max_steps terms are held.
 //
 // A screen, then fits to convergence. Every candidate first gets a short fit on each fold (a
 // few EM iterations from the held model) and is scored on the other fold as above; only the few
@@ -112,11 +116,13 @@ struct HeldOutError {
 };
 
 struct SearchStep {
-  // Ranked: those fitted to convergence by held-out gain, then the screened ones, failed last.
+  // The named candidate first (named_position), then the others ranked: those fitted to
+  // convergence by held-out gain, then the screened ones, failed last.
   std::vector<CandidateResult> candidates;
-  // The family-wise threshold: the named candidate is kept when its t exceeds critical_t (the
-  // max-T law's 1 − α point); critical_p is that t's one-sided Student p, for reading beside
-  // each candidate's p_value; family_wise_p the named candidate's adjusted p under the law.
+  // The family-wise threshold: a candidate passes when its t exceeds critical_t (the max-T
+  // law's 1 − α point), and the named one is kept when it passes; critical_p is that t's
+  // one-sided Student p, for reading beside each candidate's p_value; family_wise_p the named
+  // candidate's adjusted p under the law.
   double critical_t = 0.0;
   double critical_p = 0.0;
   double family_wise_p = 1.0;
@@ -170,6 +176,11 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
                                const SmoothedJunction& junction,
                                const ModelSearchOptions& options = {},
                                const ModelSearchProgress& progress = {});
+
+// Which of a step's candidates, ranked by gain as SearchStep::candidates are, the step names (its
+// position): the first fitted to convergence with a positive gain whose t exceeds critical_t;
+// without one, the first.
+std::size_t named_position(const std::vector<CandidateResult>& ranked, double critical_t);
 
 // The candidates of the grammar for a model with `modes` modes, on the covariates available:
 // every bias form, each mode's offset, a slope of the spreads and of the weights on every

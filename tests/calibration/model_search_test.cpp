@@ -378,6 +378,38 @@ TEST(ModelSearch, TellsApartWhatTheDataTellApart) {
   EXPECT_EQ(step.not_told_apart(), expected);
 }
 
+// Which candidate a step names: the largest gain among those fitted to convergence whose t
+// passes the family-wise level; the largest gain when none passes. Candidates made by hand, in
+// rank order (fitted to convergence by gain, then screened, failed last).
+TEST(ModelSearch, NamesTheLargestGainThatPassesTheLevel) {
+  const auto candidate = [](double gain, double t, bool screened_only = false) {
+    CandidateResult r;
+    r.held_out_gain = gain;
+    r.t_statistic = t;
+    r.screened_only = screened_only;
+    return r;
+  };
+  constexpr double kLevel = 2.7;
+  // A gain made in a few runs (t under the level) ahead of one most runs show.
+  EXPECT_EQ(named_position({candidate(163.0, 2.0), candidate(158.0, 4.1), candidate(40.0, 6.0)},
+                           kLevel),
+            1u);
+  // The first passes: it is named.
+  EXPECT_EQ(named_position({candidate(163.0, 3.0), candidate(158.0, 4.1)}, kLevel), 0u);
+  // None passes: the largest gain is named (and not kept).
+  EXPECT_EQ(named_position({candidate(163.0, 2.0), candidate(158.0, 1.0)}, kLevel), 0u);
+  // A screened candidate (no fit to convergence) is never named past the first, however large
+  // its t; nor a failed one, nor a negative gain (its t is of a loss).
+  CandidateResult failed = candidate(0.0, 9.0);
+  failed.error = "did not converge";
+  EXPECT_EQ(named_position({candidate(163.0, 2.0), candidate(-5.0, 9.0), candidate(90.0, 9.0, true),
+                            failed},
+                           kLevel),
+            0u);
+  // At the level exactly a candidate does not pass (kept only when t exceeds it).
+  EXPECT_EQ(named_position({candidate(163.0, 2.0), candidate(150.0, kLevel)}, kLevel), 0u);
+}
+
 TEST(ModelSearch, RefusesARecordTooShortForTheFolds) {
   Record r = draw_record(Injected::None, 7, 1);
   const Eigen::Index keep = 15;
