@@ -201,8 +201,9 @@ std::string search_text(const calibration::ModelSearchResult& search,
   text += windows_not_compared_text(search);
   for (std::size_t i = 0; i < search.steps.size(); ++i) {
     const auto& s = search.steps[i];
-    text += fmt::format("step {} candidates (the first {} of {}):\n", i + 1,
-                        std::min(kCandidatesShown, s.candidates.size()), s.candidates.size());
+    text += fmt::format(
+        "step {} candidates (the first {} of {}; the named one, then by held-out gain):\n", i + 1,
+        std::min(kCandidatesShown, s.candidates.size()), s.candidates.size());
     text += fmt::format("  {:<44} {:<44} {:>11} {:>8} {:>9}  {}\n", "effect", "term",
                         "gain/range", "t", "p", "fit");
     for (std::size_t c = 0; c < s.candidates.size() && c < kCandidatesShown; ++c) {

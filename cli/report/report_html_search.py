@@ -115,7 +115,8 @@ def search_section(diagnosis):
     for i, step in enumerate(search.get("steps") or []):
         candidates = step.get("candidates") or []
         parts.append(f"<p>Step {i + 1}: the first {min(CANDIDATES_SHOWN, len(candidates))} of "
-                     f"{len(candidates)} candidates (all are in <code>data/diagnosis.json</code>)"
+                     f"{len(candidates)} candidates, the named one first, then by held-out gain "
+                     f"(all are in <code>data/diagnosis.json</code>)"
                      f"</p>")
         table = ["<table><tr><th class=\"text\">effect</th><th class=\"text\">term</th>"
                  "<th>gain per range</th><th>t</th><th>p-value</th><th class=\"text\">fit</th>"
