@@ -519,10 +519,8 @@ std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariate
 }
 
 std::size_t named_position(const std::vector<CandidateResult>& ranked, double critical_t) {
-  const auto passes = [&](const CandidateResult& r) {
-    return r.ok() && !r.screened_only && r.held_out_gain > 0.0 && r.t_statistic > critical_t;
-  };
-  const auto first_passing = std::find_if(ranked.begin(), ranked.end(), passes);
+  const auto first_passing = std::find_if(
+      ranked.begin(), ranked.end(), [&](const CandidateResult& r) { return r.passes(critical_t); });
   return first_passing == ranked.end()
              ? 0
              : static_cast<std::size_t>(first_passing - ranked.begin());
@@ -719,7 +717,7 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
           window_errors_of(search_data, best, folds, options, threads);
       s.errors = compare_held_out(held_errors, best_errors, best[0].fit.model.modes, folds,
                                   options);
-      s.kept = named->held_out_gain > 0.0 && named->t_statistic > s.critical_t;
+      s.kept = named->passes(s.critical_t);
       if (s.kept) {
         held = best;
         held_errors = best_errors;

@@ -101,6 +101,11 @@ struct CandidateResult {
   double t_below_named = 0.0;
   double p_below_named = 1.0;
   bool ok() const { return error.empty(); }
+  // Past a step's family-wise level: fitted to convergence, gaining, its t above critical_t. The
+  // step names the first such candidate and keeps it (named_position).
+  bool passes(double critical_t) const {
+    return ok() && !screened_only && held_out_gain > 0.0 && t_statistic > critical_t;
+  }
   bool not_told_apart_from_named() const {
     return compared_with_named && p_below_named > kToldApartLevel;
   }
