@@ -13,6 +13,7 @@
 #include <random>
 #include <string>
 
+#include "calibration/covariates.hpp"
 #include "core/em_train.hpp"
 #include "core/error.hpp"
 
@@ -408,6 +409,44 @@ TEST(ModelSearch, NamesTheLargestGainThatPassesTheLevel) {
             0u);
   // At the level exactly a candidate does not pass (kept only when t exceeds it).
   EXPECT_EQ(named_position({candidate(163.0, 2.0), candidate(150.0, kLevel)}, kLevel), 0u);
+}
+
+// A term's constants (the smooth form's knots, a linear form's centre and scale) are taken from
+// the ranges of the fold it is fitted on, never from the ranges that fold's model scores
+// (model_search.hpp): each is a statistic of the half of the blocks the first fold trains on, so
+// it is not the same statistic of every range, which a term shaped on all the data would carry.
+// The knots of a half lie inside the whole record's covariate range.
+TEST(ModelSearch, ShapesEachTermOnTheRangesItIsFittedOn) {
+  const Record r = draw_record(Injected::None, 11);
+  ModelSearchOptions options;
+  options.threads = 2;
+  options.max_steps = 1;
+  const ModelSearchResult s = search_model(r.data, r.calibration, r.junction, options);
+  ASSERT_EQ(s.steps.size(), 1u);
+  const core::CovariateTable all = covariate_table(r.data, r.junction);
+  int smooth = 0, linear = 0;
+  for (const CandidateResult& c : s.steps.front().candidates) {
+    if (!c.ok() || c.term.covariate == core::Covariate::None) continue;
+    const core::Term& t = c.term;
+    const core::Term on_all =
+        all.make_term(t.parameter, t.covariate, t.form, t.mode, t.time_constant_s);
+    const Eigen::VectorXd v = all.values(t.covariate, t.time_constant_s);
+    if (t.form == core::Form::Smooth) {
+      ASSERT_EQ(t.knots.size(), on_all.knots.size()) << t.describe();
+      EXPECT_GT((t.knots - on_all.knots).cwiseAbs().maxCoeff(), 0.0) << t.describe();
+      EXPECT_GE(t.knots.minCoeff(), v.minCoeff()) << t.describe();
+      EXPECT_LE(t.knots.maxCoeff(), v.maxCoeff()) << t.describe();
+      ++smooth;
+    } else if (t.form == core::Form::Linear) {
+      EXPECT_NE(t.centre, on_all.centre) << t.describe();
+      EXPECT_NE(t.scale, on_all.scale) << t.describe();
+      ++linear;
+    }
+  }
+  // Every step-1 list holds the smooth bias terms of time, the heating rate and the time since
+  // power-on, and the linear ones of time and the heating rate.
+  EXPECT_GE(smooth, 3);
+  EXPECT_GE(linear, 2);
 }
 
 TEST(ModelSearch, RefusesARecordTooShortForTheFolds) {
