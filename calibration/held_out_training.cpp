@@ -5,6 +5,7 @@
 
 #include "calibration/compensation.hpp"
 #include "calibration/junction_recheck.hpp"
+#include "calibration/structure_recheck.hpp"
 #include "calibration/window_evaluation.hpp"
 #include "core/error.hpp"
 
@@ -29,14 +30,20 @@ std::string extend_by_search(const MeasuredData& trained_on, const TrainSettings
   } catch (const core::Error& e) {
     return fmt::format("the model search did not run ({}); the paper's model is kept", e.what());
   }
-  TrainedSearch trained = recheck_junction(trained_on, settings, options,
-                                           {std::move(out.training), std::move(search), std::nullopt});
+  TrainedSearch trained =
+      recheck_junction(trained_on, settings, options,
+                       {std::move(out.training), std::move(search), std::nullopt, std::nullopt});
+  trained = recheck_structure(trained_on, settings, options, std::move(trained));
   out.training = std::move(trained.training);
   search = std::move(trained.search);
   std::string recheck;
   if (trained.junction_recheck && trained.junction_recheck->case_log_chosen) {
     recheck = " (from the case log's junction, re-checked after the search: it predicts held-out "
               "ranges better than the ranges')";
+  }
+  if (trained.structure_recheck && trained.structure_recheck->chosen) {
+    recheck += " (at " + trained.structure_recheck->again +
+               ", the structure chosen again without the kept terms' bias)";
   }
   if (search.kept.empty()) return "the model search kept no term" + recheck;
   std::string names;

@@ -48,17 +48,11 @@ TrainedSearch recheck_junction(const MeasuredData& data, const TrainSettings& se
   TrainSettings case_log = settings;
   case_log.junction_from_ranges = false;
   try {
-    // Progress: the training the first half, the search the second.
-    const auto stage = [&](double from, const char* what) {
-      return [&progress, from, what](double share, const std::string& detail) {
-        if (progress) progress(from + 0.5 * share, std::string(what) + detail);
-      };
-    };
-    Training training = train_calibration(
-        data, case_log, nullptr, stage(0.0, "re-checking the junction, the case log's: "));
-    ModelSearchResult search =
-        search_model(data, training.calibration, training.junction, options,
-                     stage(0.5, "re-checking the junction, the search from the case log's: "));
+    TrainedSearch again = train_and_search(
+        data, case_log, options,
+        progress_part(progress, 0.0, 1.0, "re-checking the junction from the case log's, "));
+    Training& training = again.training;
+    ModelSearchResult& search = again.search;
     const CommonScores scores = common_scores(trained.search, search);
     recheck.kept_from_case_log = search.kept;
     recheck.common_ranges = scores.ranges;

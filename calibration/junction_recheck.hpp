@@ -22,31 +22,11 @@
 #include <string>
 #include <vector>
 
-#include "calibration/junction_dynamics.hpp"
 #include "calibration/model_search.hpp"
+#include "calibration/trained_search.hpp"
 #include "calibration/training.hpp"
 
 namespace tofcomp::calibration {
-
-struct JunctionRecheck {
-  JunctionDynamics from_ranges;    // the junction training took from the ranges
-  JunctionDynamics from_case_log;  // the case-log fit's
-  std::vector<core::Term> kept_from_ranges;  // what the search from the ranges' junction kept
-  std::vector<core::Term> kept_from_case_log;
-  Eigen::Index common_ranges = 0;  // scored by both searches
-  // The final models' held-out log-likelihood per common range.
-  double from_ranges_per_range = 0.0;
-  double from_case_log_per_range = 0.0;
-  bool case_log_chosen = false;
-  std::string error;  // why the case log's training or search failed (the ranges' are kept)
-};
-
-// Training and its search, as run; replaced by the case log's when that predicts better.
-struct TrainedSearch {
-  Training training;
-  ModelSearchResult search;
-  std::optional<JunctionRecheck> junction_recheck;  // when it ran
-};
 
 // The re-check above on `trained` (training with `settings` and the search from it with
 // `options`); returns it unchanged, with no re-check, unless training took the junction from

@@ -14,6 +14,7 @@
 
 #include "calibration/junction_recheck.hpp"
 #include "calibration/model_search.hpp"
+#include "calibration/structure_recheck.hpp"
 #include "calibration/training.hpp"
 
 namespace tofcomp::calibration {
@@ -43,6 +44,7 @@ struct RecordingOutcome {
   std::string search_error;  // why the model search could not run; the training still stands
   std::optional<ModelSearchResult> search;
   std::optional<JunctionRecheck> junction_recheck;  // when it ran (calibration/junction_recheck.hpp)
+  std::optional<StructureRecheck> structure_recheck;  // when it ran (calibration/structure_recheck.hpp)
   double seconds = 0.0;  // wall clock of this recording's work
 
   bool calibrated() const { return training.has_value(); }

@@ -7,6 +7,7 @@
 #include "calibration/gross_errors.hpp"
 #include "calibration/parallel_for.hpp"
 #include "core/error.hpp"
+#include "core/validation.hpp"
 #include "io/utc_time.hpp"
 #include "io/version.hpp"
 
@@ -19,6 +20,11 @@ constexpr double kNoiseShare = 0.2;
 constexpr double kSearchShare = 0.8;
 constexpr double kJunctionShare = 0.9;
 
+// Ranges rounded to whole millimetres carry the rounding's variance h²/12 (Sheppard) in every
+// mode: a mode narrower than that is the rounding's lattice, not a lasing mode, and left free EM
+// would lock a mode onto one rounded value (the likelihood of rounded data is unbounded).
+double rounding_variance() { return kRangeResolutionMm * kRangeResolutionMm / 12.0; }
+
 // The paper's structure (§8), kept when a record is too short to choose one.
 constexpr const char* kPaperBasis = "polynomial:4";
 constexpr int kPaperModes = 2;
@@ -30,6 +36,9 @@ constexpr const char* kJunctionDynamicsMethod =
 constexpr const char* kStructureMethod =
     "held-out log-likelihood on interleaved folds, one-standard-error rule "
     "(core/structure_search.hpp)";
+constexpr const char* kStructureAgainMethod =
+    "; chosen again on the ranges less the bias of the terms the model search kept "
+    "(calibration/structure_recheck.hpp)";
 
 void report(const TrainingProgress& progress, double share, const std::string& stage) {
   if (progress) progress(share, stage);
@@ -54,8 +63,19 @@ core::StructureChoice choose_structure(const TrainSettings& settings,
                                 });
 }
 
+// The settings the structure search runs with: the fits on `runner`, the variance floor of
+// ranges rounded to whole millimetres (below), held-out ranges scored by their rounded values.
+TrainSettings structure_search_settings(const TrainSettings& settings,
+                                        const core::ParallelFor& runner) {
+  TrainSettings out = settings;
+  if (!out.search.em.parallel_for) out.search.em.parallel_for = runner;
+  out.search.em.variance_floor = std::max(out.search.em.variance_floor, rounding_variance());
+  out.search.resolution = kRangeResolutionMm;
+  return out;
+}
+
 // The choices' evidence as the calibration keeps it.
-core::TrainingChoices record_choices(const Training& t) {
+core::TrainingChoices record_choices(const Training& t, bool structure_given_again) {
   core::TrainingChoices choices;
   if (t.kalman_noise_fit) {
     core::KalmanNoiseRecord noise;
@@ -78,6 +98,7 @@ core::TrainingChoices record_choices(const Training& t) {
     auto name = [&](int index) { return s.candidates[static_cast<std::size_t>(index)].name; };
     core::StructureRecord record;
     record.method = kStructureMethod;
+    if (structure_given_again) record.method += kStructureAgainMethod;
     record.chosen = name(s.chosen);
     record.best_by_glr = name(s.best_by_glr);
     record.best_by_bic = name(s.best_by_bic);
@@ -175,24 +196,20 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   Eigen::VectorXd junction_c = at_fitted_ranges(t.junction.junction_c);
   const Eigen::VectorXd y_minus_d = fit_data.range_mm - fit_data.true_range_mm;
 
-  // Ranges rounded to whole millimetres carry the rounding's variance h²/12 (Sheppard) in every
-  // mode: a mode narrower than that is the rounding's lattice, not a lasing mode, and left free
-  // EM would lock a mode onto one rounded value (the likelihood of rounded data is unbounded).
-  const double rounding_variance = kRangeResolutionMm * kRangeResolutionMm / 12.0;
   core::EmTrainOptions em = settings.em;
-  em.variance_floor = std::max(em.variance_floor, rounding_variance);
+  em.variance_floor = std::max(em.variance_floor, rounding_variance());
   // Every fit's sweeps on the threads asked for (the fits' answers do not depend on them).
   const core::ParallelFor runner = parallel_runner(settings.threads);
   if (!em.parallel_for) em.parallel_for = runner;
-  TrainSettings search_settings = settings;
-  if (!search_settings.search.em.parallel_for) search_settings.search.em.parallel_for = runner;
-  search_settings.search.em.variance_floor =
-      std::max(search_settings.search.em.variance_floor, rounding_variance);
-  search_settings.search.resolution = kRangeResolutionMm;
   core::Basis basis;
   std::optional<core::EmStartingPoint> structure_fit;
   const bool too_few_to_choose = y_minus_d.size() < core::minimum_ranges_for_search(settings.search);
-  if ((settings.basis && settings.modes) || too_few_to_choose) {
+  if (settings.structure_chosen) {
+    t.structure = settings.structure_chosen;
+    basis = basis_spanning(t.structure->basis, junction_c);
+    em.modes = t.structure->modes;
+    structure_fit = core::EmStartingPoint{t.structure->fit.theta, t.structure->fit.mixture};
+  } else if ((settings.basis && settings.modes) || too_few_to_choose) {
     // Given, or too few ranges to judge candidates on: the paper's structure (§8) for what was
     // not given.
     basis = parse_basis(settings.basis.value_or(kPaperBasis), junction_c);
@@ -200,7 +217,8 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
     t.structure_not_chosen = too_few_to_choose && !(settings.basis && settings.modes);
   } else {
     report(progress, kNoiseShare, "structure of Eq. 8");
-    t.structure = choose_structure(search_settings, junction_c, y_minus_d, progress);
+    t.structure = choose_structure(structure_search_settings(settings, runner), junction_c,
+                                   y_minus_d, progress);
     basis = t.structure->basis;
     em.modes = t.structure->modes;
     structure_fit = core::EmStartingPoint{t.structure->fit.theta, t.structure->fit.mixture};
@@ -238,7 +256,9 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
     core::EmTrainOptions options = em;
     if (structure_fit && options.initialization == core::EmInitialization::Quantiles &&
         options.m_step == core::MStep::Exact) {
-      const bool rescaled = t.junction_dynamics && t.junction_dynamics->replaced;
+      // (A structure chosen before, on other ranges, is rescaled to this junction too.)
+      const bool rescaled =
+          (t.junction_dynamics && t.junction_dynamics->replaced) || settings.structure_chosen;
       options.start =
           rescaled ? least_squares_start(h, y_minus_d, structure_fit->mixture) : *structure_fit;
     }
@@ -293,9 +313,40 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
     c.provenance.notes += "; the final fit dropped " + dropped;
   }
   if (has_gross_errors) c.provenance.notes += "; " + gross_errors_note(t.gross_errors);
-  c.choices = record_choices(t);
+  c.choices = record_choices(t, settings.structure_chosen.has_value());
   report(progress, 1.0, "done");
   return t;
+}
+
+TrainingProgress progress_part(const TrainingProgress& progress, double from, double span,
+                               const std::string& prefix) {
+  if (!progress) return {};
+  return [progress, from, span, prefix](double share, const std::string& stage) {
+    progress(from + span * share, prefix + stage);
+  };
+}
+
+core::StructureChoice choose_structure_on(const MeasuredData& data, const TrainSettings& settings,
+                                          const Training& trained,
+                                          const Eigen::Ref<const Eigen::VectorXd>& offset_mm,
+                                          const TrainingProgress& progress) {
+  core::require_same_length(data.range_mm.size(), "ranges", offset_mm.size(), "offset");
+  core::require_same_length(data.range_mm.size(), "ranges", trained.junction.junction_c.size(),
+                            "junction temperatures");
+  if (settings.basis && settings.modes) {
+    throw core::InvalidInput("the basis and the modes are given: training does not choose them");
+  }
+  const std::vector<Eigen::Index>& fitted = trained.gross_errors.kept;
+  const bool all = trained.gross_errors.count == 0;
+  const auto at_fitted = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+    return all ? v : Eigen::VectorXd(v(fitted));
+  };
+  const Eigen::VectorXd y_minus_d = at_fitted(data.range_mm - data.true_range_mm - offset_mm);
+  if (y_minus_d.size() < core::minimum_ranges_for_search(settings.search)) {
+    throw core::InvalidInput("too few ranges to choose the structure of Eq. 8 on");
+  }
+  return choose_structure(structure_search_settings(settings, parallel_runner(settings.threads)),
+                          at_fitted(trained.junction.junction_c), y_minus_d, progress);
 }
 
 }  // namespace tofcomp::calibration

@@ -38,6 +38,10 @@ struct TrainSettings {
   bool junction_from_ranges = true;
   JunctionDynamicsOptions junction_dynamics;
   int threads = 0;  // the structure search's fits run at once; 0: one per core
+  // A structure already chosen from these data, its evidence kept (calibration/
+  // structure_recheck.hpp chooses it again on the ranges less the bias of the terms the model
+  // search kept): training takes it as the search's choice and does not search again.
+  std::optional<core::StructureChoice> structure_chosen;
 };
 
 struct Training {
@@ -62,11 +66,26 @@ struct Training {
 // Progress of training's long stages: a share in [0, 1] and what runs.
 using TrainingProgress = std::function<void(double share, const std::string& stage)>;
 
+// A stage of a longer job's progress: its shares mapped onto [from, from + span] of `progress`,
+// its stages named after `prefix` (nothing when `progress` is empty).
+TrainingProgress progress_part(const TrainingProgress& progress, double from, double span,
+                               const std::string& prefix);
+
 // The whole of training on data with a known distance; the calibration's provenance names
 // the data set. With held_out, the thermal model's fit is also reported on it (§8.1).
 // Throws core::Error with the reason when any stage fails.
 Training train_calibration(const MeasuredData& data, const TrainSettings& settings,
                            const MeasuredData* held_out = nullptr,
                            const TrainingProgress& progress = {});
+
+// The structure training chooses (basis and modes, core/structure_search.hpp, as
+// train_calibration runs it with `settings`), on y − d − offset_mm at the junction `trained`
+// ended with and over the ranges it fitted Eq. 8 on (gross errors left out). offset_mm: one value
+// per range of `data`. Throws core::InvalidInput when training would not choose (a basis and
+// modes given, or too few ranges), core::Error when the search fails.
+core::StructureChoice choose_structure_on(const MeasuredData& data, const TrainSettings& settings,
+                                          const Training& trained,
+                                          const Eigen::Ref<const Eigen::VectorXd>& offset_mm,
+                                          const TrainingProgress& progress = {});
 
 }  // namespace tofcomp::calibration

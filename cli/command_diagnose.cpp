@@ -10,6 +10,7 @@
 #include "calibration/junction_estimate.hpp"
 #include "calibration/junction_recheck.hpp"
 #include "calibration/model_search.hpp"
+#include "calibration/structure_recheck.hpp"
 #include "cli/command.hpp"
 #include "cli/findings_format.hpp"
 #include "cli/junction_recheck_format.hpp"
@@ -20,6 +21,7 @@
 #include "cli/search_format.hpp"
 #include "cli/shared_options.hpp"
 #include "cli/structure_format.hpp"
+#include "cli/structure_recheck_format.hpp"
 #include "io/atomic_file.hpp"
 #include "io/calibration_file.hpp"
 #include "io/covariates_csv.hpp"
@@ -42,6 +44,7 @@ struct Searched {
   std::optional<core::StructureChoice> structure;  // when training chose it from the data
   calibration::ModelSearchResult search;
   std::optional<calibration::JunctionRecheck> junction_recheck;
+  std::optional<calibration::StructureRecheck> structure_recheck;
 };
 
 Searched search_from(const calibration::MeasuredData& measured, const SearchSettings& s,
@@ -56,7 +59,8 @@ Searched search_from(const calibration::MeasuredData& measured, const SearchSett
         calibration::junction_at_ranges(measured, c.thermal, c.kalman_noise, c.ambient_c);
     calibration::ModelSearchResult search =
         calibration::search_model(measured, c, junction, options, searching);
-    return {std::move(c), std::move(junction), std::nullopt, std::move(search), std::nullopt};
+    return {std::move(c), std::move(junction), std::nullopt, std::move(search), std::nullopt,
+            std::nullopt};
   }
   progress.update(0.0, "training the paper's model");
   calibration::TrainSettings settings = training;
@@ -69,10 +73,13 @@ Searched search_from(const calibration::MeasuredData& measured, const SearchSett
                                              trained.training.junction, options, searching);
   trained = calibration::recheck_junction(
       measured, settings, options, std::move(trained),
-      [&](double share, const std::string& stage) { progress.update(0.8 + 0.15 * share, stage); });
+      [&](double share, const std::string& stage) { progress.update(0.8 + 0.08 * share, stage); });
+  trained = calibration::recheck_structure(
+      measured, settings, options, std::move(trained),
+      [&](double share, const std::string& stage) { progress.update(0.88 + 0.07 * share, stage); });
   return {std::move(trained.training.calibration), std::move(trained.training.junction),
           std::move(trained.training.structure), std::move(trained.search),
-          std::move(trained.junction_recheck)};
+          std::move(trained.junction_recheck), std::move(trained.structure_recheck)};
 }
 
 // The grammar's covariates at each range and the base model's centred residual y − d − Hθ̂ − Σ π μ.
@@ -137,9 +144,13 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
                      {"trained_model", trained_model_json(base.calibration, structure)},
                      {"junction_recheck", base.junction_recheck
                                               ? to_json(*base.junction_recheck)
-                                              : nlohmann::json(nullptr)}};
+                                              : nlohmann::json(nullptr)},
+                     {"structure_recheck", base.structure_recheck
+                                               ? to_json(*base.structure_recheck)
+                                               : nlohmann::json(nullptr)}};
       result.text = search_text(search, options);
       if (base.junction_recheck) result.text += junction_recheck_text(*base.junction_recheck);
+      if (base.structure_recheck) result.text += structure_recheck_text(*base.structure_recheck);
       result.text += trained_model_text(base.calibration, structure);
       result.text += "\nevidence: the residual tests of the trained model\n";
       result.text += diagnosis_text(tests);

@@ -7,15 +7,9 @@
 namespace tofcomp::cli {
 namespace {
 
-std::string names(const std::vector<core::Term>& terms) {
-  const std::string out = effect_names(terms);
-  return out.empty() ? "nothing" : out;
-}
-
 nlohmann::json start_json(const calibration::JunctionDynamics& d, const std::vector<core::Term>& kept) {
-  nlohmann::json terms = nlohmann::json::array();
-  for (const core::Term& t : kept) terms.push_back(t.describe());
-  return {{"rise_k", d.rise_k}, {"time_constant_s", d.time_constant_s}, {"kept", terms}};
+  return {{"rise_k", d.rise_k}, {"time_constant_s", d.time_constant_s},
+          {"kept", term_descriptions(kept)}};
 }
 
 }  // namespace
@@ -38,12 +32,12 @@ std::string junction_recheck_text(const calibration::JunctionRecheck& r) {
       "the junction re-checked: training took it from the ranges (rise {:.2f} K, {:.1f} s; the "
       "case log's {:.2f} K, {:.1f} s) and the search kept {}; ",
       r.from_ranges.rise_k, r.from_ranges.time_constant_s, r.from_case_log.rise_k,
-      r.from_case_log.time_constant_s, names(r.kept_from_ranges));
+      r.from_case_log.time_constant_s, effect_names_or_nothing(r.kept_from_ranges));
   if (!r.error.empty()) return out + "from the case log's junction: " + r.error + "; the ranges' stands\n";
   out += fmt::format(
       "from the case log's it keeps {}; held-out log-likelihood per range ({} scored by both) "
       "{:.4f} from the ranges', {:.4f} from the case log's: {}\n",
-      names(r.kept_from_case_log), r.common_ranges, r.from_ranges_per_range,
+      effect_names_or_nothing(r.kept_from_case_log), r.common_ranges, r.from_ranges_per_range,
       r.from_case_log_per_range,
       r.case_log_chosen ? "the case log's junction is the start reported"
                         : "the ranges' junction stands");

@@ -5,6 +5,7 @@
 
 #include "cli/report_format.hpp"
 #include "cli/junction_recheck_format.hpp"
+#include "cli/structure_recheck_format.hpp"
 #include "cli/search_format.hpp"
 
 namespace tofcomp::cli {
@@ -42,7 +43,10 @@ nlohmann::json recording_json(const calibration::RecordingOutcome& outcome,
                       {"named", nullptr},
                       {"junction_recheck", outcome.junction_recheck
                                                ? to_json(*outcome.junction_recheck)
-                                               : nlohmann::json(nullptr)}};
+                                               : nlohmann::json(nullptr)},
+                      {"structure_recheck", outcome.structure_recheck
+                                                ? to_json(*outcome.structure_recheck)
+                                                : nlohmann::json(nullptr)}};
   if (outcome.training) {
     j["training"] = training_json(*outcome.training);
     const auto& trained = outcome.training->calibration.model.trained_junction_c;

@@ -84,6 +84,17 @@ std::string effect_names(const std::vector<core::Term>& terms) {
   return out;
 }
 
+std::string effect_names_or_nothing(const std::vector<core::Term>& terms) {
+  const std::string out = effect_names(terms);
+  return out.empty() ? "nothing" : out;
+}
+
+nlohmann::json term_descriptions(const std::vector<core::Term>& terms) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const core::Term& t : terms) out.push_back(t.describe());
+  return out;
+}
+
 std::string kept_names(const calibration::ModelSearchResult& search) {
   const std::string names = effect_names(search.kept);
   return names.empty() ? "none" : names;

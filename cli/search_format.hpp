@@ -18,8 +18,11 @@ namespace tofcomp::cli {
 nlohmann::json to_json(const calibration::ModelSearchResult& search,
                        const calibration::ModelSearchOptions& options);
 
-// The terms' effect names, joined by ", " (empty for none).
+// The terms' effect names, joined by ", " (empty for none; "nothing" for none with the second).
 std::string effect_names(const std::vector<core::Term>& terms);
+std::string effect_names_or_nothing(const std::vector<core::Term>& terms);
+// The terms as described (core::Term::describe), a JSON array.
+nlohmann::json term_descriptions(const std::vector<core::Term>& terms);
 // The name of what was kept ("none" when nothing was).
 std::string kept_names(const calibration::ModelSearchResult& search);
 

@@ -13,6 +13,7 @@ For every DIR/data/<id>.csv that has a truth DIR/truth/<id>.json it runs
     trained_model.modes  (optional) the lasing modes of the model the search started from
     search.steps[0].not_told_apart  (optional) candidates the data do not tell from the first named
     junction_recheck.chosen  (optional) which start a re-check of the junction kept, or null
+    structure_recheck.chosen  (optional) "first" or "again": which structure a re-check kept, or null
 and prints how the detector did.  A non-zero exit, a timeout, output that is not JSON or a missing
 or malformed field is a failure of that run, listed with its stderr tail.  Exit status 0 once
 everything that could be scored was (the figures are the result), 2 on bad arguments.
@@ -85,10 +86,14 @@ def parse_output(stdout):
     mae = s.get("mae_mm")
     if not isinstance(mae, dict):
         raise ContractError("missing field: search.mae_mm")
-    out = {"kept": kept, "best": best, "modes": None, "alike": [], "recheck": None}
+    out = {"kept": kept, "best": best, "modes": None, "alike": [], "recheck": None,
+           "structure_recheck": None}
     recheck = doc.get("junction_recheck")
     if isinstance(recheck, dict) and isinstance(recheck.get("chosen"), str):
         out["recheck"] = recheck["chosen"]
+    recheck = doc.get("structure_recheck")
+    if isinstance(recheck, dict) and isinstance(recheck.get("chosen"), str):
+        out["structure_recheck"] = recheck["chosen"]
     steps = s.get("steps")
     if isinstance(steps, list) and steps and isinstance(steps[0], dict) and "not_told_apart" in steps[0]:
         alike = steps[0]["not_told_apart"]
@@ -288,7 +293,8 @@ def evaluate(truths, runs):
                         "first": res["kept"][0] if res["kept"] else NOTHING,
                         "mae_final": res["final"], "mae_base": res["base"],
                         "modes": res["modes"], "alike": res["alike"],
-                        "recheck": res["recheck"]})
+                        "recheck": res["recheck"],
+                        "structure_recheck": res["structure_recheck"]})
         if rc is not None:
             row["counterpart_ok"] = rc["ok"]
             if not rc["ok"]:
@@ -298,6 +304,7 @@ def evaluate(truths, runs):
                 row.update({"counterpart_kept": rc["result"]["kept"],
                             "counterpart_modes": rc["result"]["modes"],
                             "counterpart_recheck": rc["result"]["recheck"],
+                            "counterpart_structure_recheck": rc["result"]["structure_recheck"],
                             "counterpart_mae_final": rc["result"]["final"],
                             "counterpart_mae_base": rc["result"]["base"]})
         if r["ok"] and rc is not None and rc["ok"]:
@@ -403,6 +410,14 @@ def evaluate(truths, runs):
                                    sum(1 for s in sets if s.get("counterpart_recheck") == "case_log"),
                 "scored_runs": sum(1 for s in sets if s["ok"]) +
                                sum(1 for s in sets if s.get("counterpart_ok"))},
+            "structure_recheck": {
+                "runs": sum(1 for s in sets if s.get("structure_recheck")) +
+                        sum(1 for s in sets if s.get("counterpart_structure_recheck")),
+                "chosen_again": sum(1 for s in sets if s.get("structure_recheck") == "again") +
+                                sum(1 for s in sets
+                                    if s.get("counterpart_structure_recheck") == "again"),
+                "scored_runs": sum(1 for s in sets if s["ok"]) +
+                               sum(1 for s in sets if s.get("counterpart_ok"))},
             "mae_ratio": {"threshold": RATIO_OK, "rows": ratio_rows, "per_window": ratio_ok,
                           "all_windows_ok": all_ok, "n": len(ratio_rows),
                           "named_right_without_counterpart": named_right_no_ratio},
@@ -505,6 +520,11 @@ def render(rep):
     if jr and jr["runs"]:
         out.append("\nJunction re-checked after a kept term on %d of %d runs; the case log's "
                    "junction chosen on %d" % (jr["runs"], jr["scored_runs"], jr["case_log_chosen"]))
+
+    sr = rep.get("structure_recheck")
+    if sr and sr["runs"]:
+        out.append("Structure re-checked after a kept term on the bias on %d of %d runs; chosen "
+                   "again on %d" % (sr["runs"], sr["scored_runs"], sr["chosen_again"]))
 
     out.append("\nFailures: %d" % len(rep["failures"]))
     for f in rep["failures"]:

@@ -1,0 +1,60 @@
+// What training and the model search ended with, and the re-checks that may replace them
+// (calibration/junction_recheck.hpp, calibration/structure_recheck.hpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "calibration/junction_dynamics.hpp"
+#include "calibration/model_search.hpp"
+#include "calibration/training.hpp"
+#include "core/effect_grammar.hpp"
+
+namespace tofcomp::calibration {
+
+// The junction re-checked after the search kept a term (calibration/junction_recheck.hpp).
+struct JunctionRecheck {
+  JunctionDynamics from_ranges;    // the junction training took from the ranges
+  JunctionDynamics from_case_log;  // the case-log fit's
+  std::vector<core::Term> kept_from_ranges;  // what the search from the ranges' junction kept
+  std::vector<core::Term> kept_from_case_log;
+  Eigen::Index common_ranges = 0;  // scored by both searches
+  // The final models' held-out log-likelihood per common range.
+  double from_ranges_per_range = 0.0;
+  double from_case_log_per_range = 0.0;
+  bool case_log_chosen = false;
+  std::string error;  // why the case log's training or search failed (the ranges' are kept)
+};
+
+// The structure re-checked after the search kept a term on the bias
+// (calibration/structure_recheck.hpp).
+struct StructureRecheck {
+  std::string first;  // the structure training chose, e.g. "polynomial(6, legendre), 4 modes"
+  int first_modes = 0;
+  std::vector<core::Term> bias_terms;  // the kept terms whose bias was taken out
+  std::string again;  // the structure chosen on the ranges less that bias
+  int again_modes = 0;
+  std::vector<core::Term> kept_first;  // what the search kept at the first structure
+  bool searched_again = false;  // `again` differed: training and the search ran at it
+  std::vector<core::Term> kept_again;  // what that search kept
+  bool chosen = false;  // its training and search replaced the first
+  std::string error;    // why choosing, training or searching again failed (the first stands)
+};
+
+// Training and its search, as run; replaced by a re-check's when that is chosen.
+struct TrainedSearch {
+  Training training;
+  ModelSearchResult search;
+  std::optional<JunctionRecheck> junction_recheck;    // when it ran
+  std::optional<StructureRecheck> structure_recheck;  // when it ran
+};
+
+// Training with `settings`, then the model search from its calibration with `options`; progress:
+// training the first half, the search the second.
+TrainedSearch train_and_search(const MeasuredData& data, const TrainSettings& settings,
+                               const ModelSearchOptions& options,
+                               const TrainingProgress& progress = {});
+
+}  // namespace tofcomp::calibration
