@@ -4,8 +4,7 @@
 #include <fmt/format.h>
 
 #include "calibration/compensation.hpp"
-#include "calibration/junction_recheck.hpp"
-#include "calibration/structure_recheck.hpp"
+#include "calibration/trained_search.hpp"
 #include "calibration/window_evaluation.hpp"
 #include "core/error.hpp"
 
@@ -31,9 +30,8 @@ std::string extend_by_search(const MeasuredData& trained_on, const TrainSettings
     return fmt::format("the model search did not run ({}); the paper's model is kept", e.what());
   }
   TrainedSearch trained =
-      recheck_junction(trained_on, settings, options,
+      recheck_training(trained_on, settings, options,
                        {std::move(out.training), std::move(search), std::nullopt, std::nullopt});
-  trained = recheck_structure(trained_on, settings, options, std::move(trained));
   out.training = std::move(trained.training);
   search = std::move(trained.search);
   std::string recheck;

@@ -51,17 +51,15 @@ TrainedSearch recheck_junction(const MeasuredData& data, const TrainSettings& se
     TrainedSearch again = train_and_search(
         data, case_log, options,
         progress_part(progress, 0.0, 1.0, "re-checking the junction from the case log's, "));
-    Training& training = again.training;
-    ModelSearchResult& search = again.search;
-    const CommonScores scores = common_scores(trained.search, search);
-    recheck.kept_from_case_log = search.kept;
+    const CommonScores scores = common_scores(trained.search, again.search);
+    recheck.kept_from_case_log = again.search.kept;
     recheck.common_ranges = scores.ranges;
     recheck.from_ranges_per_range = scores.first;
     recheck.from_case_log_per_range = scores.second;
     recheck.case_log_chosen = scores.second > scores.first;
     if (recheck.case_log_chosen) {
-      trained.training = std::move(training);
-      trained.search = std::move(search);
+      trained.training = std::move(again.training);
+      trained.search = std::move(again.search);
     }
   } catch (const core::Error& e) {
     recheck.error = e.what();

@@ -72,8 +72,7 @@ RecordingOutcome calibrate_one(const std::filesystem::path& recording, const Bat
           search_model(data, out.training->calibration, out.training->junction, search);
       TrainedSearch trained{std::move(*out.training), std::move(searched), std::nullopt,
                             std::nullopt};
-      trained = recheck_junction(data, training, search, std::move(trained));
-      trained = recheck_structure(data, training, search, std::move(trained));
+      trained = recheck_training(data, training, search, std::move(trained));
       out.training = std::move(trained.training);
       out.search = std::move(trained.search);
       out.junction_recheck = std::move(trained.junction_recheck);

@@ -12,9 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "calibration/junction_recheck.hpp"
 #include "calibration/model_search.hpp"
-#include "calibration/structure_recheck.hpp"
+#include "calibration/trained_search.hpp"
 #include "calibration/training.hpp"
 
 namespace tofcomp::calibration {

@@ -64,14 +64,12 @@ TrainedSearch recheck_structure(const MeasuredData& data, const TrainSettings& s
       TrainedSearch at_it = train_and_search(
           data, again, options,
           progress_part(progress, 0.3, 0.7, "re-checking the structure at the new choice, "));
-      Training& training = at_it.training;
-      ModelSearchResult& search = at_it.search;
       recheck.searched_again = true;
-      recheck.kept_again = search.kept;
-      recheck.chosen = !kept_bias_terms(search).empty();
+      recheck.kept_again = at_it.search.kept;
+      recheck.chosen = !kept_bias_terms(at_it.search).empty();
       if (recheck.chosen) {
-        trained.training = std::move(training);
-        trained.search = std::move(search);
+        trained.training = std::move(at_it.training);
+        trained.search = std::move(at_it.search);
       }
     }
   } catch (const core::Error& e) {

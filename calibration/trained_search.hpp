@@ -51,6 +51,13 @@ struct TrainedSearch {
   std::optional<StructureRecheck> structure_recheck;  // when it ran
 };
 
+// The re-checks that may replace a training and its search, in order: the junction's
+// (calibration/junction_recheck.hpp), then the structure's (calibration/structure_recheck.hpp),
+// each on what the one before left; progress: each half.
+TrainedSearch recheck_training(const MeasuredData& data, const TrainSettings& settings,
+                               const ModelSearchOptions& options, TrainedSearch trained,
+                               const TrainingProgress& progress = {});
+
 // Training with `settings`, then the model search from its calibration with `options`; progress:
 // training the first half, the search the second.
 TrainedSearch train_and_search(const MeasuredData& data, const TrainSettings& settings,

@@ -8,9 +8,8 @@
 #include "calibration/covariates.hpp"
 #include "calibration/diagnosis.hpp"
 #include "calibration/junction_estimate.hpp"
-#include "calibration/junction_recheck.hpp"
 #include "calibration/model_search.hpp"
-#include "calibration/structure_recheck.hpp"
+#include "calibration/trained_search.hpp"
 #include "cli/command.hpp"
 #include "cli/findings_format.hpp"
 #include "cli/junction_recheck_format.hpp"
@@ -65,18 +64,12 @@ Searched search_from(const calibration::MeasuredData& measured, const SearchSett
   progress.update(0.0, "training the paper's model");
   calibration::TrainSettings settings = training;
   settings.threads = s.threads;
-  calibration::TrainedSearch trained;
-  trained.training = calibration::train_calibration(
-      measured, settings, nullptr,
-      [&](double share, const std::string& stage) { progress.update(0.2 * share, stage); });
-  trained.search = calibration::search_model(measured, trained.training.calibration,
-                                             trained.training.junction, options, searching);
-  trained = calibration::recheck_junction(
+  calibration::TrainedSearch trained = calibration::train_and_search(
+      measured, settings, options,
+      [&](double share, const std::string& stage) { progress.update(0.8 * share, stage); });
+  trained = calibration::recheck_training(
       measured, settings, options, std::move(trained),
-      [&](double share, const std::string& stage) { progress.update(0.8 + 0.08 * share, stage); });
-  trained = calibration::recheck_structure(
-      measured, settings, options, std::move(trained),
-      [&](double share, const std::string& stage) { progress.update(0.88 + 0.07 * share, stage); });
+      [&](double share, const std::string& stage) { progress.update(0.8 + 0.15 * share, stage); });
   return {std::move(trained.training.calibration), std::move(trained.training.junction),
           std::move(trained.training.structure), std::move(trained.search),
           std::move(trained.junction_recheck), std::move(trained.structure_recheck)};
