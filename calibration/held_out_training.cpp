@@ -23,17 +23,14 @@ namespace {
 // the training's calibration by the extended one. Returns what the note says of it.
 std::string extend_by_search(const MeasuredData& trained_on, const TrainSettings& settings,
                              const ModelSearchOptions& options, HeldOutTraining& out) {
-  ModelSearchResult search;
+  TrainedSearch trained;
   try {
-    search = search_model(trained_on, out.training.calibration, out.training.junction, options);
+    trained = search_and_recheck(trained_on, settings, options, out.training);
   } catch (const core::Error& e) {
     return fmt::format("the model search did not run ({}); the paper's model is kept", e.what());
   }
-  TrainedSearch trained =
-      recheck_training(trained_on, settings, options,
-                       {std::move(out.training), std::move(search), std::nullopt, std::nullopt});
   out.training = std::move(trained.training);
-  search = std::move(trained.search);
+  ModelSearchResult search = std::move(trained.search);
   std::string recheck;
   if (trained.junction_recheck && trained.junction_recheck->case_log_chosen) {
     recheck = " (from the case log's junction, re-checked after the search: it predicts held-out "

@@ -36,11 +36,17 @@ CommonScores common_scores(const ModelSearchResult& a, const ModelSearchResult& 
 
 }  // namespace
 
+bool junction_may_be_rechecked(const Training& training) {
+  return training.junction_dynamics && training.junction_dynamics->replaced;
+}
+
 TrainedSearch recheck_junction(const MeasuredData& data, const TrainSettings& settings,
                                const ModelSearchOptions& options, TrainedSearch trained,
                                const TrainingProgress& progress) {
+  if (!junction_may_be_rechecked(trained.training) || !search_kept_a_term(trained.search)) {
+    return trained;
+  }
   const std::optional<JunctionDynamicsFit>& fit = trained.training.junction_dynamics;
-  if (!fit || !fit->replaced || !search_kept_a_term(trained.search)) return trained;
   JunctionRecheck recheck;
   recheck.from_ranges = fit->best.dynamics;
   recheck.from_case_log = fit->start.dynamics;

@@ -28,6 +28,10 @@
 
 namespace tofcomp::calibration {
 
+// Whether the re-check above can replace this training: training took the junction from the
+// ranges (it then runs once the search has kept a term).
+bool junction_may_be_rechecked(const Training& training);
+
 // The re-check above on `trained` (training with `settings` and the search from it with
 // `options`); returns it unchanged, with no re-check, unless training took the junction from
 // the ranges and the search kept a term of its own. Never throws for the re-check's training or

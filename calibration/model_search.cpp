@@ -526,231 +526,304 @@ std::size_t named_position(const std::vector<CandidateResult>& ranked, double cr
              : static_cast<std::size_t>(first_passing - ranked.begin());
 }
 
-ModelSearchResult search_model(const MeasuredData& data, const core::Calibration& base,
+namespace {
+
+// The outlier component training gave the gross errors (calibration/gross_errors.hpp) is the
+// model the search starts from; any other extension is left aside and searched for again.
+core::Calibration without_extension(core::Calibration calibration) {
+  calibration.extension.reset();
+  return calibration;
+}
+
+}  // namespace
+
+// What a search holds between its steps.
+struct ModelSearchRun::State {
+  State(const MeasuredData& data, const core::Calibration& base, const SmoothedJunction& junction,
+        const ModelSearchOptions& search_options, ModelSearchProgress search_progress)
+      : options(search_options),
+        progress(std::move(search_progress)),
+        calibration(without_extension(base)),
+        carried(carried_outliers(base)),
+        folds(make_folds(junction.junction_c, options.windows)),
+        search_data(data.range_mm - data.true_range_mm,
+                    calibration.model.basis.design_matrix(junction.junction_c),
+                    covariate_table(data, junction), calibration.model.theta,
+                    folds.training(0), kMinimumRangesPerDirection),
+        floor(options.resolution * options.resolution / 12.0),
+        fitter(search_data, floor),
+        threads(thread_count(options.threads)) {}
+
+  void report(double share, const std::string& stage) {
+    if (!progress) return;
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    progress(share, stage);
+  }
+
+  // The training's model fitted to convergence on `rows` (all when empty).
+  FoldModel fit_base(const std::vector<Eigen::Index>& rows) const {
+    const core::ExtendedDesign design =
+        design_of(base_spec, search_data, calibration.model.mixture.modes(), rows);
+    const Eigen::VectorXd y =
+        rows.empty() ? search_data.y() : Eigen::VectorXd(search_data.y()(rows));
+    return FoldModel{base_spec, core::train_extended_em(design, y, base_fit,
+                                                        em_options(floor, kFitIterations))
+                                    .fit};
+  }
+
+  void run_step();
+
+  const ModelSearchOptions options;
+  const ModelSearchProgress progress;
+  std::mutex progress_mutex;
+  const core::Calibration calibration;  // the training's, its extension left aside
+  const std::optional<core::Term> carried;
+  const Folds folds;
+  const SearchData search_data;
+  const double floor;
+  const TermFitter fitter;
+  const int threads;
+  core::ExtendedParameters base_fit;
+  ModelSpec base_spec;
+  ModelSearchResult result;  // its steps, the kept carried term; the rest at the end
+  std::array<FoldModel, kFolds> held;
+  Eigen::VectorXd held_scores;
+  WindowErrors training_errors;
+  WindowErrors held_errors;
+  bool finished = false;
+};
+
+ModelSearchRun::ModelSearchRun(const MeasuredData& data, const core::Calibration& base,
                                const SmoothedJunction& junction,
                                const ModelSearchOptions& options,
                                const ModelSearchProgress& progress) {
   data.require_true_ranges();
-  core::Calibration calibration = base;
-  // The outlier component training gave the gross errors (calibration/gross_errors.hpp) is the
-  // model the search starts from; any other extension is left aside and searched for again.
-  const std::optional<core::Term> carried = carried_outliers(base);
-  calibration.extension.reset();
-  const Folds folds = make_folds(junction.junction_c, options.windows);
-  const SearchData search_data(data.range_mm - data.true_range_mm,
-                               calibration.model.basis.design_matrix(junction.junction_c),
-                               covariate_table(data, junction), calibration.model.theta,
-                               folds.training(0), kMinimumRangesPerDirection);
-  const double floor = options.resolution * options.resolution / 12.0;
-  const TermFitter fitter(search_data, floor);
-  const int threads = thread_count(options.threads);
-  std::mutex progress_mutex;
-  const auto report = [&](double share, const std::string& stage) {
-    if (!progress) return;
-    const std::lock_guard<std::mutex> lock(progress_mutex);
-    progress(share, stage);
-  };
-
-  ModelSearchResult result;
-  result.block = folds.block;
-  result.blocks = folds.blocks;
-  result.windows_not_compared = windows_by_fit(folds, options, false);
-  result.basis_directions_held = search_data.directions_undetermined_by_a_half();
+  state_ = std::make_unique<State>(data, base, junction, options, progress);
+  State& s = *state_;
+  const std::optional<core::Term>& carried = s.carried;
+  s.result.block = s.folds.block;
+  s.result.blocks = s.folds.blocks;
+  s.result.windows_not_compared = windows_by_fit(s.folds, options, false);
+  s.result.basis_directions_held = s.search_data.directions_undetermined_by_a_half();
 
   // The training's model on each fold, from its fit on all the data.
-  core::ExtendedParameters base_fit{
+  const core::Calibration& calibration = s.calibration;
+  s.base_fit = core::ExtendedParameters{
       Eigen::VectorXd(),
       std::vector<Eigen::VectorXd>(static_cast<std::size_t>(calibration.model.mixture.modes())),
       core::without_extensions(calibration.model.mixture)};
-  search_data.to_orthogonal(calibration.model.theta, base_fit.theta, base_fit.model.modes.mean);
-  ModelSpec base_spec;
+  s.search_data.to_orthogonal(calibration.model.theta, s.base_fit.theta,
+                              s.base_fit.model.modes.mean);
   if (carried) {
-    base_spec.outliers = true;
-    base_spec.effects.push_back(carried->label());
-    base_fit.model.outlier_weight = base.extension->extended_mixture.outlier_weight;
-    base_fit.model.outlier_density = base.extension->extended_mixture.outlier_density;
-    result.kept.push_back(*carried);
-    result.carried_from_training = 1;
+    s.base_spec.outliers = true;
+    s.base_spec.effects.push_back(carried->label());
+    s.base_fit.model.outlier_weight = base.extension->extended_mixture.outlier_weight;
+    s.base_fit.model.outlier_density = base.extension->extended_mixture.outlier_density;
+    s.result.kept.push_back(*carried);
+    s.result.carried_from_training = 1;
   }
-  // The training's model fitted to convergence on `rows` (all when empty).
-  const auto fit_base = [&](const std::vector<Eigen::Index>& rows) {
-    const core::ExtendedDesign design =
-        design_of(base_spec, search_data, calibration.model.mixture.modes(), rows);
-    const Eigen::VectorXd y = rows.empty() ? search_data.y() : Eigen::VectorXd(search_data.y()(rows));
-    return FoldModel{base_spec,
-                     core::train_extended_em(design, y, base_fit, em_options(floor, kFitIterations)).fit};
-  };
-  std::array<FoldModel, kFolds> held;
-  Eigen::VectorXd held_scores = Eigen::VectorXd::Zero(search_data.size());
+  s.held_scores = Eigen::VectorXd::Zero(s.search_data.size());
   // The folds at once: each writes its own model and its own held-out rows' scores.
-  parallel_for(kFolds, threads, [&](int f) {
-    held[static_cast<std::size_t>(f)] = fit_base(folds.training(f));
-    score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
-                   options.resolution, held_scores);
+  parallel_for(kFolds, s.threads, [&](int f) {
+    s.held[static_cast<std::size_t>(f)] = s.fit_base(s.folds.training(f));
+    score_held_out(s.search_data, s.held[static_cast<std::size_t>(f)], s.folds.held_out(f),
+                   options.resolution, s.held_scores);
   });
-  result.base_held_out_log_likelihood = held_scores.sum();
-  const WindowErrors training_errors =
-      window_errors_of(search_data, held, folds, options, threads);
-  WindowErrors held_errors = training_errors;
+  s.result.base_held_out_log_likelihood = s.held_scores.sum();
+  s.training_errors = window_errors_of(s.search_data, s.held, s.folds, options, s.threads);
+  s.held_errors = s.training_errors;
+  s.finished = options.max_steps < 1;
+}
 
-  for (int step = 0; step < options.max_steps; ++step) {
-    const int modes = held[0].fit.model.modes.modes();
-    std::vector<core::Term> candidates;
-    for (const core::Term& t : grammar_candidates(search_data.covariates(), modes)) {
-      if (held[0].spec.accepts(t)) candidates.push_back(t);
-    }
-    if (candidates.empty()) break;
-    SearchStep s;
-    s.candidates.resize(candidates.size());
-    std::vector<std::array<FoldModel, kFolds>> fits(candidates.size());
-    std::vector<std::array<Screened, kFolds>> screens(candidates.size());
-    std::vector<Eigen::VectorXd> run_gains(candidates.size());  // per candidate, as last judged
-    // A candidate fitted on each fold (by fit_on(fold)) and scored on the other: its result.
-    const auto judge = [&](std::size_t c, const std::function<Fitted(int)>& fit_on) {
-      CandidateResult& r = s.candidates[c];
-      try {
-        Eigen::VectorXd scores = Eigen::VectorXd::Zero(search_data.size());
-        for (int f = 0; f < kFolds; ++f) {
-          Fitted fitted = fit_on(f);
-          if (f == 0) r.term = last_added(fitted.model.spec, candidates[c]);
-          score_held_out(search_data, fitted.model, folds.held_out(f), options.resolution,
-                         scores);
-          fits[c][static_cast<std::size_t>(f)] = std::move(fitted.model);
-        }
-        BlockTest test = block_test(scores - held_scores, folds);
-        run_gains[c] = std::move(test.run_gains);
-        r.held_out_gain = test.gain;
-        r.gain_per_range = test.gain / static_cast<double>(search_data.size());
-        r.t_statistic = test.t;
-        r.p_value = test.p;
-      } catch (const core::Error& e) {
-        r.error = e.what();
-      }
-    };
-    const int refined = options.refined_candidates > 0
-                            ? std::min<int>(options.refined_candidates,
-                                            static_cast<int>(candidates.size()))
-                            : static_cast<int>(candidates.size());
-    std::atomic<int> done{0};
-    const double step_share = 1.0 / options.max_steps;
-    const double work = static_cast<double>(candidates.size() + static_cast<std::size_t>(refined));
-    const auto progress_of = [&](const CandidateResult& r, const char* stage) {
-      report(step_share * (step + static_cast<double>(++done) / work),
-             fmt::format("step {}: {} {}", step + 1, stage, r.term.describe()));
-    };
-    // The screen: every candidate's short fit.
-    parallel_for(static_cast<int>(candidates.size()), threads, [&](int i) {
-      const auto c = static_cast<std::size_t>(i);
-      s.candidates[c].term = candidates[c];
-      s.candidates[c].screened_only = true;
-      judge(c, [&](int f) {
-        const auto fold = static_cast<std::size_t>(f);
-        screens[c][fold] = fitter.screen(held[fold], candidates[c], folds.training(f));
-        return screens[c][fold].fitted;
-      });
-      progress_of(s.candidates[c], "screened");
-    });
-    // The `refined` best by the screen's held-out gain, fitted to convergence from their screens.
-    const auto by_gain = [&](std::vector<std::size_t>& order) {
-      std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        const CandidateResult &x = s.candidates[a], &y = s.candidates[b];
-        if (x.ok() != y.ok()) return x.ok();
-        if (x.screened_only != y.screened_only) return !x.screened_only;
-        return x.held_out_gain > y.held_out_gain;
-      });
-    };
-    std::vector<std::size_t> order(candidates.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    by_gain(order);
-    parallel_for(refined, threads, [&](int j) {
-      const std::size_t c = order[static_cast<std::size_t>(j)];
-      if (!s.candidates[c].ok()) return;
-      s.candidates[c].screened_only = false;
-      judge(c, [&](int f) {
-        const auto fold = static_cast<std::size_t>(f);
-        return fitter.fit(held[fold], candidates[c], screens[c][fold], folds.training(f));
-      });
-      progress_of(s.candidates[c], "fitted");
-    });
-    // Rank: those fitted to convergence by held-out gain, then the screened ones, failed last.
-    by_gain(order);
-    std::optional<core::SignFlipMaxT> max_t;
-    if (s.candidates[order.front()].ok()) {
-      max_t.emplace(step_max_t(order, run_gains));
-      s.critical_t = max_t->critical_t(options.alpha);
-      s.critical_p = one_sided_p(s.critical_t,
-                                 static_cast<double>(run_gains[order.front()].size()));
-    }
-    std::vector<CandidateResult> ranked;
-    for (const std::size_t i : order) ranked.push_back(s.candidates[i]);
-    // The named candidate first, the others in rank order.
-    const auto named_at =
-        max_t ? static_cast<std::ptrdiff_t>(named_position(ranked, s.critical_t)) : 0;
-    std::rotate(order.begin(), order.begin() + named_at, order.begin() + named_at + 1);
-    std::rotate(ranked.begin(), ranked.begin() + named_at, ranked.begin() + named_at + 1);
-    s.candidates = std::move(ranked);
-    const auto fitted_count = std::count_if(s.candidates.begin(), s.candidates.end(),
-                                            [](const CandidateResult& r) { return r.ok(); });
-    result.candidates_per_step = std::max(result.candidates_per_step, static_cast<int>(fitted_count));
-    const CandidateResult* named = s.named();
-    if (named) {
-      // Each other candidate fitted to convergence against the named one, run by run.
-      for (std::size_t j = 1; j < order.size(); ++j) {
-        CandidateResult& r = s.candidates[j];
-        const Eigen::VectorXd& mine = run_gains[order[j]];
-        const Eigen::VectorXd& named_runs = run_gains[order.front()];
-        if (!r.ok() || r.screened_only || mine.size() != named_runs.size()) continue;
-        Eigen::VectorXd difference = named_runs - mine;
-        // One model reached by two terms (the same design) differs by rounding alone, which a t
-        // statistic, blind to scale, would read as a difference of consistent sign.
-        if (difference.cwiseAbs().sum() <= kRoundingGainShare * named_runs.cwiseAbs().sum()) {
-          difference.setZero();
-        }
-        const core::BlockGainTest test = core::block_gain_t_test(difference);
-        r.compared_with_named = true;
-        r.t_below_named = test.t;
-        r.p_below_named = test.p;
-      }
-      s.family_wise_p = max_t->adjusted_p(named->t_statistic);
-      const std::array<FoldModel, kFolds>& best = fits[order.front()];
-      const WindowErrors best_errors =
-          window_errors_of(search_data, best, folds, options, threads);
-      s.errors = compare_held_out(held_errors, best_errors, best[0].fit.model.modes, folds,
-                                  options);
-      s.kept = named->passes(s.critical_t);
-      if (s.kept) {
-        held = best;
-        held_errors = best_errors;
-        for (int f = 0; f < kFolds; ++f) {
-          score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
-                         options.resolution, held_scores);
-        }
-      }
-    }
-    const bool kept = s.kept;
-    result.steps.push_back(std::move(s));
-    if (!kept) break;
+ModelSearchRun::~ModelSearchRun() = default;
+ModelSearchRun::ModelSearchRun(ModelSearchRun&&) noexcept = default;
+ModelSearchRun& ModelSearchRun::operator=(ModelSearchRun&&) noexcept = default;
+
+bool ModelSearchRun::finished() const { return state_->finished; }
+
+const std::vector<SearchStep>& ModelSearchRun::steps() const { return state_->result.steps; }
+
+bool ModelSearchRun::next_step() {
+  if (state_->finished) return false;
+  state_->run_step();
+  return true;
+}
+
+void ModelSearchRun::State::run_step() {
+  const int step = static_cast<int>(result.steps.size());
+  const int modes = held[0].fit.model.modes.modes();
+  std::vector<core::Term> candidates;
+  for (const core::Term& t : grammar_candidates(search_data.covariates(), modes)) {
+    if (held[0].spec.accepts(t)) candidates.push_back(t);
   }
+  if (candidates.empty()) {
+    finished = true;
+    return;
+  }
+  SearchStep s;
+  s.candidates.resize(candidates.size());
+  std::vector<std::array<FoldModel, kFolds>> fits(candidates.size());
+  std::vector<std::array<Screened, kFolds>> screens(candidates.size());
+  std::vector<Eigen::VectorXd> run_gains(candidates.size());  // per candidate, as last judged
+  // A candidate fitted on each fold (by fit_on(fold)) and scored on the other: its result.
+  const auto judge = [&](std::size_t c, const std::function<Fitted(int)>& fit_on) {
+    CandidateResult& r = s.candidates[c];
+    try {
+      Eigen::VectorXd scores = Eigen::VectorXd::Zero(search_data.size());
+      for (int f = 0; f < kFolds; ++f) {
+        Fitted fitted = fit_on(f);
+        if (f == 0) r.term = last_added(fitted.model.spec, candidates[c]);
+        score_held_out(search_data, fitted.model, folds.held_out(f), options.resolution, scores);
+        fits[c][static_cast<std::size_t>(f)] = std::move(fitted.model);
+      }
+      BlockTest test = block_test(scores - held_scores, folds);
+      run_gains[c] = std::move(test.run_gains);
+      r.held_out_gain = test.gain;
+      r.gain_per_range = test.gain / static_cast<double>(search_data.size());
+      r.t_statistic = test.t;
+      r.p_value = test.p;
+    } catch (const core::Error& e) {
+      r.error = e.what();
+    }
+  };
+  const int refined = options.refined_candidates > 0
+                          ? std::min<int>(options.refined_candidates,
+                                          static_cast<int>(candidates.size()))
+                          : static_cast<int>(candidates.size());
+  std::atomic<int> done{0};
+  const double step_share = 1.0 / options.max_steps;
+  const double work = static_cast<double>(candidates.size() + static_cast<std::size_t>(refined));
+  const auto progress_of = [&](const CandidateResult& r, const char* stage) {
+    report(step_share * (step + static_cast<double>(++done) / work),
+           fmt::format("step {}: {} {}", step + 1, stage, r.term.describe()));
+  };
+  // The screen: every candidate's short fit.
+  parallel_for(static_cast<int>(candidates.size()), threads, [&](int i) {
+    const auto c = static_cast<std::size_t>(i);
+    s.candidates[c].term = candidates[c];
+    s.candidates[c].screened_only = true;
+    judge(c, [&](int f) {
+      const auto fold = static_cast<std::size_t>(f);
+      screens[c][fold] = fitter.screen(held[fold], candidates[c], folds.training(f));
+      return screens[c][fold].fitted;
+    });
+    progress_of(s.candidates[c], "screened");
+  });
+  // The `refined` best by the screen's held-out gain, fitted to convergence from their screens.
+  const auto by_gain = [&](std::vector<std::size_t>& order) {
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      const CandidateResult &x = s.candidates[a], &y = s.candidates[b];
+      if (x.ok() != y.ok()) return x.ok();
+      if (x.screened_only != y.screened_only) return !x.screened_only;
+      return x.held_out_gain > y.held_out_gain;
+    });
+  };
+  std::vector<std::size_t> order(candidates.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  by_gain(order);
+  parallel_for(refined, threads, [&](int j) {
+    const std::size_t c = order[static_cast<std::size_t>(j)];
+    if (!s.candidates[c].ok()) return;
+    s.candidates[c].screened_only = false;
+    judge(c, [&](int f) {
+      const auto fold = static_cast<std::size_t>(f);
+      return fitter.fit(held[fold], candidates[c], screens[c][fold], folds.training(f));
+    });
+    progress_of(s.candidates[c], "fitted");
+  });
+  // Rank: those fitted to convergence by held-out gain, then the screened ones, failed last.
+  by_gain(order);
+  std::optional<core::SignFlipMaxT> max_t;
+  if (s.candidates[order.front()].ok()) {
+    max_t.emplace(step_max_t(order, run_gains));
+    s.critical_t = max_t->critical_t(options.alpha);
+    s.critical_p =
+        one_sided_p(s.critical_t, static_cast<double>(run_gains[order.front()].size()));
+  }
+  std::vector<CandidateResult> ranked;
+  for (const std::size_t i : order) ranked.push_back(s.candidates[i]);
+  // The named candidate first, the others in rank order.
+  const auto named_at =
+      max_t ? static_cast<std::ptrdiff_t>(named_position(ranked, s.critical_t)) : 0;
+  std::rotate(order.begin(), order.begin() + named_at, order.begin() + named_at + 1);
+  std::rotate(ranked.begin(), ranked.begin() + named_at, ranked.begin() + named_at + 1);
+  s.candidates = std::move(ranked);
+  const auto fitted_count = std::count_if(s.candidates.begin(), s.candidates.end(),
+                                          [](const CandidateResult& r) { return r.ok(); });
+  result.candidates_per_step =
+      std::max(result.candidates_per_step, static_cast<int>(fitted_count));
+  const CandidateResult* named = s.named();
+  if (named) {
+    // Each other candidate fitted to convergence against the named one, run by run.
+    for (std::size_t j = 1; j < order.size(); ++j) {
+      CandidateResult& r = s.candidates[j];
+      const Eigen::VectorXd& mine = run_gains[order[j]];
+      const Eigen::VectorXd& named_runs = run_gains[order.front()];
+      if (!r.ok() || r.screened_only || mine.size() != named_runs.size()) continue;
+      Eigen::VectorXd difference = named_runs - mine;
+      // One model reached by two terms (the same design) differs by rounding alone, which a t
+      // statistic, blind to scale, would read as a difference of consistent sign.
+      if (difference.cwiseAbs().sum() <= kRoundingGainShare * named_runs.cwiseAbs().sum()) {
+        difference.setZero();
+      }
+      const core::BlockGainTest test = core::block_gain_t_test(difference);
+      r.compared_with_named = true;
+      r.t_below_named = test.t;
+      r.p_below_named = test.p;
+    }
+    s.family_wise_p = max_t->adjusted_p(named->t_statistic);
+    const std::array<FoldModel, kFolds>& best = fits[order.front()];
+    const WindowErrors best_errors = window_errors_of(search_data, best, folds, options, threads);
+    s.errors =
+        compare_held_out(held_errors, best_errors, best[0].fit.model.modes, folds, options);
+    s.kept = named->passes(s.critical_t);
+    if (s.kept) {
+      held = best;
+      held_errors = best_errors;
+      for (int f = 0; f < kFolds; ++f) {
+        score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
+                       options.resolution, held_scores);
+      }
+    }
+  }
+  const bool kept = s.kept;
+  result.steps.push_back(std::move(s));
+  finished = !kept || static_cast<int>(result.steps.size()) >= options.max_steps;
+}
 
+ModelSearchResult ModelSearchRun::result() const {
+  const State& s = *state_;
+  ModelSearchResult result = s.result;
   // The kept terms fitted on all the data, in the order the search added them.
   // A carried component was fitted with the modes held (its weight alone); here every parameter
   // with it, as each fold's held model was, and as a kept term is.
-  FoldModel all = carried ? fit_base({}) : FoldModel{base_spec, base_fit};
-  for (const SearchStep& s : result.steps) {
-    if (!s.kept) continue;
-    Fitted f = fitter.fit(all, s.named()->term, {});
+  FoldModel all = s.carried ? s.fit_base({}) : FoldModel{s.base_spec, s.base_fit};
+  for (const SearchStep& step : result.steps) {
+    if (!step.kept) continue;
+    Fitted f = s.fitter.fit(all, step.named()->term, {});
     all = std::move(f.model);
-    result.kept.push_back(last_added(all.spec, s.named()->term));
+    result.kept.push_back(last_added(all.spec, step.named()->term));
   }
-  result.calibration = calibration_of(all.spec, all.fit, calibration, search_data);
+  result.calibration = calibration_of(all.spec, all.fit, s.calibration, s.search_data);
   if (result.kept.size() > static_cast<std::size_t>(result.carried_from_training)) {
     result.calibration.provenance.notes += "; extended by the model search";
   }
-  result.errors = compare_held_out(training_errors, held_errors, held[0].fit.model.modes, folds,
-                                   options);
-  result.final_held_out_scores = held_scores;
-  result.scored = folds.is_scored;
-  report(1.0, "done");
+  result.errors = compare_held_out(s.training_errors, s.held_errors, s.held[0].fit.model.modes,
+                                   s.folds, s.options);
+  result.final_held_out_scores = s.held_scores;
+  result.scored = s.folds.is_scored;
+  return result;
+}
+
+ModelSearchResult search_model(const MeasuredData& data, const core::Calibration& base,
+                               const SmoothedJunction& junction,
+                               const ModelSearchOptions& options,
+                               const ModelSearchProgress& progress) {
+  ModelSearchRun run(data, base, junction, options, progress);
+  while (run.next_step()) {
+  }
+  ModelSearchResult result = run.result();
+  if (progress) progress(1.0, "done");
   return result;
 }
 

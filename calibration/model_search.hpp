@@ -57,6 +57,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -181,6 +182,34 @@ ModelSearchResult search_model(const MeasuredData& data, const core::Calibration
                                const SmoothedJunction& junction,
                                const ModelSearchOptions& options = {},
                                const ModelSearchProgress& progress = {});
+
+// The same search one step at a time, for a caller that decides between the steps (the
+// structure re-check, calibration/structure_recheck.hpp, looks again at the structure as soon as
+// a term on the bias is kept). search_model is: construct, next_step() until it returns false,
+// result(). `data` must outlive the run.
+class ModelSearchRun {
+ public:
+  // Fits the training's model on each fold (throws as search_model does).
+  ModelSearchRun(const MeasuredData& data, const core::Calibration& base,
+                 const SmoothedJunction& junction, const ModelSearchOptions& options = {},
+                 const ModelSearchProgress& progress = {});
+  ~ModelSearchRun();
+  ModelSearchRun(ModelSearchRun&&) noexcept;
+  ModelSearchRun& operator=(ModelSearchRun&&) noexcept;
+
+  // Runs the next step; false, running none, once the search has ended: a step kept nothing,
+  // options.max_steps steps ran, or no candidate is left.
+  bool next_step();
+  bool finished() const;
+  const std::vector<SearchStep>& steps() const;
+  // The search as it stands: the terms kept so far fitted on all the data, the errors of the
+  // model they make.
+  ModelSearchResult result() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 // Which of a step's candidates, ranked by gain as SearchStep::candidates are, the step names (its
 // position): the first fitted to convergence with a positive gain whose t exceeds critical_t;

@@ -68,11 +68,7 @@ RecordingOutcome calibrate_one(const std::filesystem::path& recording, const Bat
     ModelSearchOptions search = settings.search;
     search.threads = threads;
     try {
-      ModelSearchResult searched =
-          search_model(data, out.training->calibration, out.training->junction, search);
-      TrainedSearch trained{std::move(*out.training), std::move(searched), std::nullopt,
-                            std::nullopt};
-      trained = recheck_training(data, training, search, std::move(trained));
+      TrainedSearch trained = search_and_recheck(data, training, search, *out.training);
       out.training = std::move(trained.training);
       out.search = std::move(trained.search);
       out.junction_recheck = std::move(trained.junction_recheck);

@@ -1,5 +1,7 @@
 #include "calibration/trained_search.hpp"
 
+#include <algorithm>
+
 #include "calibration/junction_recheck.hpp"
 #include "calibration/structure_recheck.hpp"
 
@@ -14,6 +16,51 @@ TrainedSearch train_and_search(const MeasuredData& data, const TrainSettings& se
   out.search = search_model(data, out.training.calibration, out.training.junction, options,
                             progress_part(progress, 0.5, 0.5, "the search: "));
   return out;
+}
+
+namespace {
+
+std::size_t kept_bias_term_count(const ModelSearchResult& search) {
+  return static_cast<std::size_t>(
+      std::count_if(search.kept.begin() + search.carried_from_training, search.kept.end(),
+                    [](const core::Term& t) { return t.parameter == core::Parameter::Bias; }));
+}
+
+bool kept_a_bias_term(const SearchStep& step) {
+  return step.kept && step.named()->term.parameter == core::Parameter::Bias;
+}
+
+}  // namespace
+
+TrainedSearch search_and_recheck(const MeasuredData& data, const TrainSettings& settings,
+                                 const ModelSearchOptions& options, Training training,
+                                 const TrainingProgress& progress) {
+  const TrainingProgress searching = progress_part(progress, 0.0, 0.5, "the search: ");
+  const TrainingProgress rechecking = progress_part(progress, 0.5, 0.5, "");
+  ModelSearchRun first(data, training.calibration, training.junction, options, searching);
+  const bool early = !junction_may_be_rechecked(training);
+  bool looked_again = false;  // the structure's re-check ran, or could not, at a paused step
+  std::optional<StructureRecheck> early_recheck;
+  while (first.next_step()) {
+    if (!early || looked_again || !kept_a_bias_term(first.steps().back())) continue;
+    looked_again = true;
+    TrainedSearch paused{std::move(training), first.result(), std::nullopt, std::nullopt};
+    paused = recheck_structure(data, settings, options, std::move(paused), rechecking);
+    if (paused.structure_recheck) paused.structure_recheck->first_search_paused = true;
+    if (paused.structure_recheck && paused.structure_recheck->chosen) return paused;
+    training = std::move(paused.training);
+    early_recheck = std::move(paused.structure_recheck);
+  }
+  if (searching) searching(1.0, "done");
+  TrainedSearch trained{std::move(training), first.result(), std::nullopt, std::nullopt};
+  if (!looked_again) {
+    return recheck_training(data, settings, options, std::move(trained), rechecking);
+  }
+  if (early_recheck && kept_bias_term_count(trained.search) > early_recheck->bias_terms.size()) {
+    return recheck_structure(data, settings, options, std::move(trained), rechecking);
+  }
+  trained.structure_recheck = std::move(early_recheck);
+  return trained;
 }
 
 TrainedSearch recheck_training(const MeasuredData& data, const TrainSettings& settings,

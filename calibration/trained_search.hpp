@@ -37,6 +37,10 @@ struct StructureRecheck {
   std::string again;  // the structure chosen on the ranges less that bias
   int again_modes = 0;
   std::vector<core::Term> kept_first;  // what the search kept at the first structure
+  // The re-check ran where the first search paused, after the step that kept its first term on
+  // the bias (search_and_recheck): kept_first is what it had kept by then, and the search went
+  // on from there only where the first structure stood.
+  bool first_search_paused = false;
   bool searched_again = false;  // `again` differed: training and the search ran at it
   std::vector<core::Term> kept_again;  // what that search kept
   bool chosen = false;  // its training and search replaced the first
@@ -57,6 +61,18 @@ struct TrainedSearch {
 TrainedSearch recheck_training(const MeasuredData& data, const TrainSettings& settings,
                                const ModelSearchOptions& options, TrainedSearch trained,
                                const TrainingProgress& progress = {});
+
+// The model search from `training` (with `settings`) and the re-checks that may replace both.
+// Where the junction's re-check cannot run (training kept the case log's junction), the
+// structure's runs as soon as a step keeps a term on the bias, the search paused there: the
+// steps after it would search from a structure about to be looked at again, and when the
+// structure chosen without that bias replaces the first, they are not run at all. Where the
+// first structure stands, the search goes on from the step it paused at (and the structure is
+// looked at again at its end only if later steps kept more terms on the bias). Otherwise, the
+// whole search, then recheck_training. progress: the search and the re-checks, each half.
+TrainedSearch search_and_recheck(const MeasuredData& data, const TrainSettings& settings,
+                                 const ModelSearchOptions& options, Training training,
+                                 const TrainingProgress& progress = {});
 
 // Training with `settings`, then the model search from its calibration with `options`; progress:
 // training the first half, the search the second.

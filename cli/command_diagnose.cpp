@@ -64,12 +64,13 @@ Searched search_from(const calibration::MeasuredData& measured, const SearchSett
   progress.update(0.0, "training the paper's model");
   calibration::TrainSettings settings = training;
   settings.threads = s.threads;
-  calibration::TrainedSearch trained = calibration::train_and_search(
-      measured, settings, options,
-      [&](double share, const std::string& stage) { progress.update(0.8 * share, stage); });
-  trained = calibration::recheck_training(
-      measured, settings, options, std::move(trained),
-      [&](double share, const std::string& stage) { progress.update(0.8 + 0.15 * share, stage); });
+  calibration::Training trained_model = calibration::train_calibration(
+      measured, settings, nullptr, [&](double share, const std::string& stage) {
+        progress.update(0.4 * share, "training: " + stage);
+      });
+  calibration::TrainedSearch trained = calibration::search_and_recheck(
+      measured, settings, options, std::move(trained_model),
+      [&](double share, const std::string& stage) { progress.update(0.4 + 0.55 * share, stage); });
   return {std::move(trained.training.calibration), std::move(trained.training.junction),
           std::move(trained.training.structure), std::move(trained.search),
           std::move(trained.junction_recheck), std::move(trained.structure_recheck)};

@@ -14,6 +14,7 @@ nlohmann::json to_json(const calibration::StructureRecheck& r) {
           {"again_modes",
            r.again.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.again_modes)},
           {"kept_first", term_descriptions(r.kept_first)},
+          {"first_search_paused", r.first_search_paused},
           {"searched_again", r.searched_again},
           {"kept_again", term_descriptions(r.kept_again)},
           {"chosen", r.chosen ? "again" : "first"},
@@ -22,7 +23,8 @@ nlohmann::json to_json(const calibration::StructureRecheck& r) {
 
 std::string structure_recheck_text(const calibration::StructureRecheck& r) {
   std::string out = fmt::format(
-      "the structure re-checked: training chose {} and the search kept {}; ", r.first,
+      "the structure re-checked: training chose {} and the search {} {}; ", r.first,
+      r.first_search_paused ? "paused at its first term on the bias had kept" : "kept",
       effect_names_or_nothing(r.kept_first));
   if (!r.error.empty()) return out + r.error + "; the first structure stands\n";
   out += fmt::format("on the ranges less the bias of {} the structure search chooses {}",

@@ -320,6 +320,50 @@ TEST(ModelSearch, GivesTheSerialResultOnAnyNumberOfThreads) {
   EXPECT_FALSE(serial.kept.empty());  // the warm-up is kept: the comparison covers a kept step
 }
 
+// The search run one step at a time (ModelSearchRun, as the structure re-check pauses it): paused
+// after its first step it is the search of one step, and gone on to its end it is the whole
+// search, kept terms, their fits on all the data and the held-out errors alike.
+TEST(ModelSearch, PausedAfterAStepIsTheSearchOfThatManySteps) {
+  const Record r = draw_record(Injected::WarmUp, 104);
+  ModelSearchOptions options;
+  options.threads = 2;
+  const ModelSearchResult whole = search_model(r.data, r.calibration, r.junction, options);
+  ModelSearchOptions one_step = options;
+  one_step.max_steps = 1;
+  const ModelSearchResult first = search_model(r.data, r.calibration, r.junction, one_step);
+  ASSERT_TRUE(first.steps.front().kept);  // the warm-up: a pause after a kept term
+
+  const auto expect_same = [](const ModelSearchResult& a, const ModelSearchResult& b) {
+    ASSERT_EQ(a.steps.size(), b.steps.size());
+    for (std::size_t i = 0; i < a.steps.size(); ++i) {
+      EXPECT_EQ(a.steps[i].kept, b.steps[i].kept);
+      EXPECT_EQ(a.steps[i].candidates.front().term.describe(),
+                b.steps[i].candidates.front().term.describe());
+      EXPECT_EQ(a.steps[i].candidates.front().held_out_gain,
+                b.steps[i].candidates.front().held_out_gain);
+    }
+    ASSERT_EQ(a.kept.size(), b.kept.size());
+    for (std::size_t i = 0; i < a.kept.size(); ++i) {
+      EXPECT_EQ(a.kept[i].describe(), b.kept[i].describe());
+    }
+    EXPECT_EQ(a.calibration.model.theta, b.calibration.model.theta);
+    ASSERT_EQ(a.errors.size(), b.errors.size());
+    for (std::size_t w = 0; w < a.errors.size(); ++w) {
+      EXPECT_EQ(a.errors[w].after_mae_mm, b.errors[w].after_mae_mm);
+    }
+    EXPECT_EQ(a.final_held_out_scores, b.final_held_out_scores);
+  };
+  ModelSearchRun run(r.data, r.calibration, r.junction, options);
+  ASSERT_TRUE(run.next_step());
+  ASSERT_EQ(run.steps().size(), 1U);
+  expect_same(run.result(), first);
+  while (run.next_step()) {
+  }
+  EXPECT_TRUE(run.finished());
+  EXPECT_FALSE(run.next_step());
+  expect_same(run.result(), whole);
+}
+
 // Which candidates the data tell from the named one, with every candidate fitted to
 // convergence, on a time drift: with no power log the time since power-on is the time since
 // the record began, so the smooth bias terms of the two are one model (the same gain on every

@@ -44,6 +44,13 @@ first = doc["search"]["kept"][0]
 expect((first["parameter"], first["covariate"]) == ("bias", "time"), f"kept first: {first}")
 expect([k["term"] for k in doc["search"]["kept"]] == r["kept_again"],
        f"reported {doc['search']['kept']}, the re-check's search kept {r['kept_again']}")
+# The first search paused at its first term on the bias when the junction's re-check, which
+# needs whole searches, could not run (training kept the case log's junction).
+expect(r["first_search_paused"] == (doc["junction_recheck"] is None),
+       f"paused {r['first_search_paused']}, junction re-check {doc['junction_recheck']}")
+if r["first_search_paused"]:
+    expect(len(r["bias_terms"]) == 1 and r["kept_first"][-1] == r["bias_terms"][0],
+           f"paused after {r['kept_first']}, bias {r['bias_terms']}")
 text = open(f"{work}/drift.txt").read()
 expect("the structure re-checked: training chose " + r["first"] in text, "no re-check in the text")
 print(f"re-check: {r['first']} -> {r['again']} ({modes} modes without the drift)")
