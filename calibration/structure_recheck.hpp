@@ -26,7 +26,8 @@
 namespace tofcomp::calibration {
 
 // The re-check above on `trained` (training with `settings`, possibly re-checked by
-// recheck_junction, and the search from it with `options`); returns it unchanged, with no
+// recheck_junction, and the search from it with `options`: whole, or paused after its first term
+// on the bias by search_and_recheck, calibration/trained_search.hpp); returns it unchanged, with no
 // re-check, unless training chose the structure and the search kept a term on the bias. Never
 // throws for the re-check's choice, training or search: their error is kept in the re-check and
 // the first structure stands.
