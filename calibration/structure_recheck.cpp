@@ -9,16 +9,6 @@
 namespace tofcomp::calibration {
 namespace {
 
-// The kept terms on the bias that the search added (the training's carried terms are not).
-std::vector<core::Term> kept_bias_terms(const ModelSearchResult& search) {
-  std::vector<core::Term> out;
-  for (std::size_t i = static_cast<std::size_t>(search.carried_from_training);
-       i < search.kept.size(); ++i) {
-    if (search.kept[i].parameter == core::Parameter::Bias) out.push_back(search.kept[i]);
-  }
-  return out;
-}
-
 const core::CandidateEvidence& chosen_candidate(const core::StructureChoice& choice) {
   return choice.candidates.at(static_cast<std::size_t>(choice.chosen));
 }
@@ -31,6 +21,15 @@ bool same_structure(const core::StructureChoice& a, const core::StructureChoice&
 }
 
 }  // namespace
+
+std::vector<core::Term> kept_bias_terms(const ModelSearchResult& search) {
+  std::vector<core::Term> out;
+  for (std::size_t i = static_cast<std::size_t>(search.carried_from_training);
+       i < search.kept.size(); ++i) {
+    if (search.kept[i].parameter == core::Parameter::Bias) out.push_back(search.kept[i]);
+  }
+  return out;
+}
 
 TrainedSearch recheck_structure(const MeasuredData& data, const TrainSettings& settings,
                                 const ModelSearchOptions& options, TrainedSearch trained,

@@ -19,11 +19,16 @@
 // complete, and the second search holds its own family-wise level.
 #pragma once
 
+#include <vector>
+
 #include "calibration/model_search.hpp"
 #include "calibration/trained_search.hpp"
 #include "calibration/training.hpp"
 
 namespace tofcomp::calibration {
+
+// The kept terms on the bias that the search added (the training's carried terms are not).
+std::vector<core::Term> kept_bias_terms(const ModelSearchResult& search);
 
 // The re-check above on `trained` (training with `settings`, possibly re-checked by
 // recheck_junction, and the search from it with `options`: whole, or paused after its first term

@@ -1,7 +1,5 @@
 #include "calibration/trained_search.hpp"
 
-#include <algorithm>
-
 #include "calibration/junction_recheck.hpp"
 #include "calibration/structure_recheck.hpp"
 
@@ -19,12 +17,6 @@ TrainedSearch train_and_search(const MeasuredData& data, const TrainSettings& se
 }
 
 namespace {
-
-std::size_t kept_bias_term_count(const ModelSearchResult& search) {
-  return static_cast<std::size_t>(
-      std::count_if(search.kept.begin() + search.carried_from_training, search.kept.end(),
-                    [](const core::Term& t) { return t.parameter == core::Parameter::Bias; }));
-}
 
 bool kept_a_bias_term(const SearchStep& step) {
   return step.kept && step.named()->term.parameter == core::Parameter::Bias;
@@ -56,7 +48,7 @@ TrainedSearch search_and_recheck(const MeasuredData& data, const TrainSettings& 
   if (!looked_again) {
     return recheck_training(data, settings, options, std::move(trained), rechecking);
   }
-  if (early_recheck && kept_bias_term_count(trained.search) > early_recheck->bias_terms.size()) {
+  if (early_recheck && kept_bias_terms(trained.search).size() > early_recheck->bias_terms.size()) {
     return recheck_structure(data, settings, options, std::move(trained), rechecking);
   }
   trained.structure_recheck = std::move(early_recheck);
