@@ -149,12 +149,38 @@ Eigen::MatrixXd Basis::design_matrix(
     throw InvalidInput("the basis has no columns");
   }
   require_finite(temperatures_c, "junction temperature");
-  // Row-major scratch row, copied into the column-major matrix: one pass, O(K·p).
-  Eigen::MatrixXd h(temperatures_c.size(), columns_);
-  Eigen::RowVectorXd scratch(columns_);
-  for (Eigen::Index k = 0; k < temperatures_c.size(); ++k) {
-    row(temperatures_c[k], scratch);
-    h.row(k) = scratch;
+  // Column by column, each column one vectorized pass over the K temperatures with the same
+  // arithmetic as row() (the same operations in the same order, so the same values): the design
+  // is built for every point of the junction's search and every structure candidate, and a row at
+  // a time wrote the column-major matrix with a stride of K.
+  const Eigen::Index k = temperatures_c.size();
+  Eigen::MatrixXd h(k, columns_);
+  Eigen::Index offset = 0;
+  for (const auto& term : terms_) {
+    auto block = h.middleCols(offset, term.columns()).array();
+    if (term.kind == BasisKind::Fourier) {
+      Eigen::RowVectorXd scratch(term.columns());
+      for (Eigen::Index r = 0; r < k; ++r) {
+        fourier_columns(temperatures_c[r], term.order, term.f0_per_c, scratch.data());
+        h.row(r).segment(offset, term.columns()) = scratch;
+      }
+    } else if (term.form == PolynomialForm::RawPower) {
+      block.col(0) = temperatures_c.array();
+      for (int n = 1; n < term.order; ++n) block.col(n) = block.col(n - 1) * temperatures_c.array();
+    } else {
+      const Eigen::ArrayXd z = (temperatures_c.array() - scaling_.center_c) / scaling_.half_range_c;
+      block.col(0) = z;
+      for (int n = 1; n < term.order; ++n) {
+        // legendre_columns' recurrence, P_0 = 1.
+        if (n == 1) {
+          block.col(n) = ((2.0 * n + 1.0) * z * block.col(n - 1) - n * 1.0) / (n + 1.0);
+        } else {
+          block.col(n) =
+              ((2.0 * n + 1.0) * z * block.col(n - 1) - n * block.col(n - 2)) / (n + 1.0);
+        }
+      }
+    }
+    offset += term.columns();
   }
   return h;
 }

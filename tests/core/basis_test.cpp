@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -68,6 +69,34 @@ TEST(Basis, ComposedBasisConcatenatesTerms) {
   EXPECT_NEAR(row[1], 1.0, 1e-15);
   EXPECT_NEAR(row[2], std::cos(2 * std::numbers::pi * 0.1 * 26.0), 1e-15);
   EXPECT_EQ(basis.describe(), "polynomial(2, legendre)+fourier(1, f0=0.1)");
+}
+
+// The design matrix, built a column at a time, holds row()'s values exactly, row by row: every
+// form (Legendre, raw powers, Fourier) alone and composed, at orders 1 to 16.
+TEST(Basis, DesignMatrixIsRowsExactly) {
+  const Eigen::VectorXd t = evenly_spaced(37, 18.5, 41.0);
+  std::vector<Basis> bases;
+  for (int order : {1, 2, 3, 7, 16}) {
+    bases.push_back(Basis::polynomial(order, t));
+    bases.push_back(Basis::polynomial(order, t, PolynomialForm::RawPower));
+    bases.push_back(Basis::fourier(order, 0.037));
+  }
+  bases.push_back(Basis({BasisTerm{BasisKind::Polynomial, 5, PolynomialForm::Legendre, 0.0},
+                         BasisTerm{BasisKind::Fourier, 3, PolynomialForm::Legendre, 0.1},
+                         BasisTerm{BasisKind::Polynomial, 2, PolynomialForm::RawPower, 0.0}},
+                        TemperatureScaling{27.0, 6.0}));
+  for (const Basis& basis : bases) {
+    const Eigen::MatrixXd h = basis.design_matrix(t);
+    ASSERT_EQ(h.rows(), t.size());
+    ASSERT_EQ(h.cols(), basis.columns());
+    Eigen::RowVectorXd row(basis.columns());
+    for (Eigen::Index k = 0; k < t.size(); ++k) {
+      basis.row(t[k], row);
+      for (Eigen::Index j = 0; j < row.size(); ++j) {
+        ASSERT_EQ(h(k, j), row[j]) << basis.describe() << " at row " << k << ", column " << j;
+      }
+    }
+  }
 }
 
 // Order 16 on the paper's temperature range: the Legendre form is well conditioned, the raw
