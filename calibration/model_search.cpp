@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <random>
+#include <vector>
 
 #include "calibration/covariates.hpp"
 #include "calibration/parallel_for.hpp"
@@ -591,6 +592,8 @@ struct ModelSearchRun::State {
   WindowErrors training_errors;
   WindowErrors held_errors;
   bool finished = false;
+  // result()'s fits on all the data: the base model, then one per kept step with its term added.
+  mutable std::vector<FoldModel> all_data_fits;
 };
 
 ModelSearchRun::ModelSearchRun(const MeasuredData& data, const core::Calibration& base,
@@ -794,16 +797,22 @@ void ModelSearchRun::State::run_step() {
 ModelSearchResult ModelSearchRun::result() const {
   const State& s = *state_;
   ModelSearchResult result = s.result;
-  // The kept terms fitted on all the data, in the order the search added them.
+  // The kept terms fitted on all the data, in the order the search added them; the fits an
+  // earlier call made (a search paused for the structure re-check, then run on) are taken again.
   // A carried component was fitted with the modes held (its weight alone); here every parameter
   // with it, as each fold's held model was, and as a kept term is.
-  FoldModel all = s.carried ? s.fit_base({}) : FoldModel{s.base_spec, s.base_fit};
+  std::vector<FoldModel>& fits = s.all_data_fits;
+  if (fits.empty()) fits.push_back(s.carried ? s.fit_base({}) : FoldModel{s.base_spec, s.base_fit});
+  std::size_t kept_count = 0;
   for (const SearchStep& step : result.steps) {
     if (!step.kept) continue;
-    Fitted f = s.fitter.fit(all, step.named()->term, {});
-    all = std::move(f.model);
-    result.kept.push_back(last_added(all.spec, step.named()->term));
+    ++kept_count;
+    if (fits.size() <= kept_count) {
+      fits.push_back(s.fitter.fit(fits.back(), step.named()->term, {}).model);
+    }
+    result.kept.push_back(last_added(fits[kept_count].spec, step.named()->term));
   }
+  const FoldModel& all = fits[kept_count];
   result.calibration = calibration_of(all.spec, all.fit, s.calibration, s.search_data);
   if (result.kept.size() > static_cast<std::size_t>(result.carried_from_training)) {
     result.calibration.provenance.notes += "; extended by the model search";
