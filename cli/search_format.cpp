@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <string>
+#include <string_view>
 
 namespace tofcomp::cli {
 namespace {
@@ -212,21 +214,31 @@ std::string search_text(const calibration::ModelSearchResult& search,
   text += windows_not_compared_text(search);
   for (std::size_t i = 0; i < search.steps.size(); ++i) {
     const auto& s = search.steps[i];
+    const std::size_t shown = std::min(kCandidatesShown, s.candidates.size());
     text += fmt::format(
         "step {} candidates (the first {} of {}; the named one, then by held-out gain):\n", i + 1,
-        std::min(kCandidatesShown, s.candidates.size()), s.candidates.size());
-    text += fmt::format("  {:<44} {:<44} {:>11} {:>8} {:>9}  {}\n", "effect", "term",
-                        "gain/range", "t", "p", "fit");
-    for (std::size_t c = 0; c < s.candidates.size() && c < kCandidatesShown; ++c) {
+        shown, s.candidates.size());
+    // The effect and term columns as wide as their longest entry shown (an effect's name runs
+    // to 50 characters), so that a long one never runs into the next column.
+    std::size_t effect_width = std::string_view("effect").size();
+    std::size_t term_width = std::string_view("term").size();
+    for (std::size_t c = 0; c < shown; ++c) {
+      effect_width = std::max(effect_width, core::effect_name(s.candidates[c].term.label()).size());
+      term_width = std::max(term_width, s.candidates[c].term.describe().size());
+    }
+    text += fmt::format("  {:<{}}  {:<{}} {:>11} {:>8} {:>9}  {}\n", "effect", effect_width, "term",
+                        term_width, "gain/range", "t", "p", "fit");
+    for (std::size_t c = 0; c < shown; ++c) {
       const auto& r = s.candidates[c];
       if (!r.ok()) {
-        text += fmt::format("  {:<44} {:<44} not fitted: {}\n", core::effect_name(r.term.label()),
-                            r.term.describe(), r.error);
+        text += fmt::format("  {:<{}}  {:<{}} not fitted: {}\n", core::effect_name(r.term.label()),
+                            effect_width, r.term.describe(), term_width, r.error);
         continue;
       }
-      text += fmt::format("  {:<44} {:<44} {:>11.2e} {:>8.2f} {:>9.2g}  {}\n",
-                          core::effect_name(r.term.label()), r.term.describe(), r.gain_per_range,
-                          r.t_statistic, r.p_value, r.screened_only ? "screen" : "converged");
+      text += fmt::format("  {:<{}}  {:<{}} {:>11.2e} {:>8.2f} {:>9.2g}  {}\n",
+                          core::effect_name(r.term.label()), effect_width, r.term.describe(),
+                          term_width, r.gain_per_range, r.t_statistic, r.p_value,
+                          r.screened_only ? "screen" : "converged");
     }
   }
   return text;
