@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/validation.hpp"
@@ -24,13 +25,21 @@ void validate_term(const BasisTerm& term) {
   }
 }
 
-// Legendre P_1..P_N at z by the three-term recurrence (n+1) P_{n+1} = (2n+1) z P_n − n P_{n−1}.
+// The three-term recurrence (n+1) P_{n+1} = (2n+1) z P_n − n P_{n−1}, at one z (double) or at
+// a column of them (Eigen::ArrayXd): the same operations in the same order either way, so a
+// design matrix built a column at a time holds its rows' values.
+template <typename Value>
+Value legendre_next(int n, const Value& z, const Value& current, const Value& previous) {
+  return ((2.0 * n + 1.0) * z * current - n * previous) / (n + 1.0);
+}
+
+// Legendre P_1..P_N at z.
 void legendre_columns(double z, int order, double* out) {
   double previous = 1.0;  // P_0
   double current = z;     // P_1
   out[0] = current;
   for (int n = 1; n < order; ++n) {
-    const double next = ((2.0 * n + 1.0) * z * current - n * previous) / (n + 1.0);
+    const double next = legendre_next(n, z, current, previous);
     previous = current;
     current = next;
     out[n] = current;
@@ -168,16 +177,16 @@ Eigen::MatrixXd Basis::design_matrix(
       block.col(0) = temperatures_c.array();
       for (int n = 1; n < term.order; ++n) block.col(n) = block.col(n - 1) * temperatures_c.array();
     } else {
+      // legendre_columns, a column at a time.
       const Eigen::ArrayXd z = (temperatures_c.array() - scaling_.center_c) / scaling_.half_range_c;
-      block.col(0) = z;
+      Eigen::ArrayXd previous = Eigen::ArrayXd::Ones(k);  // P_0
+      Eigen::ArrayXd current = z;                         // P_1
+      block.col(0) = current;
       for (int n = 1; n < term.order; ++n) {
-        // legendre_columns' recurrence, P_0 = 1.
-        if (n == 1) {
-          block.col(n) = ((2.0 * n + 1.0) * z * block.col(n - 1) - n * 1.0) / (n + 1.0);
-        } else {
-          block.col(n) =
-              ((2.0 * n + 1.0) * z * block.col(n - 1) - n * block.col(n - 2)) / (n + 1.0);
-        }
+        Eigen::ArrayXd next = legendre_next(n, z, current, previous);
+        previous = std::move(current);
+        current = std::move(next);
+        block.col(n) = current;
       }
     }
     offset += term.columns();
