@@ -1,23 +1,31 @@
 // tofcompd's compensation path, from a scan telegram's last byte to its publication: the
 // decoder and the scan parser (hal/lms2xx), the conversion to millimetres (daemon/), the
 // pipeline (junction temperature, Eq. 8, sliding-window EM on each of 361 beams: realtime/),
-// the shared-memory ring and the socket's JSON encoding. Counters: ranges per second and the
-// multiple of the LMS 200's 75 scans/s; p50 and p99 latency per scan; CPU time per second of
-// data at 75 scans/s; resident memory. One run as fast as the path goes, one paced at 75 scans/s.
+// the shared-memory ring and, with a subscriber of every beam, the socket's encoding (a JSON
+// line or a compact frame) written to a connected Unix socket whose other end a reader thread
+// drains, as a client does. Counters: ranges per second and the multiple of the LMS 200's 75
+// scans/s; p50 and p99 latency per scan; CPU time per second of data at 75 scans/s; resident
+// memory. Runs as fast as the path goes, and paced at 75 scans/s.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <array>
+#include <optional>
+#include <stdexcept>
 #include <fstream>
 #include <random>
 #include <thread>
 
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include "daemon/scan_conversion.hpp"
+#include "daemon/socket/scan_fanout.hpp"
 #include "hal/lms2xx/messages.hpp"
 #include "hal/lms2xx/scan_telegram.hpp"
 #include "hal/lms2xx/telegram_decoder.hpp"
 #include "io/calibration_file.hpp"
 #include "ipc/ring/ring_writer.hpp"
-#include "ipc/socket/scan_json.hpp"
 #include "realtime/compensation_pipeline.hpp"
 
 namespace {
@@ -47,6 +55,46 @@ std::vector<std::vector<std::uint8_t>> telegrams(int count) {
   return out;
 }
 
+// What the socket sends per scan: nothing (no client subscribed), every beam as a JSON event
+// line, or every beam as a compact frame (docs/protocol.md).
+enum class Subscriber { None, Json, Compact };
+
+// A connected Unix stream socket pair whose far end a thread reads and discards until the near
+// end closes: the kernel's copy of each scan to a client, without the client's decoding.
+class DrainedSocket {
+ public:
+  DrainedSocket() {
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, ends_) != 0) {
+      throw std::runtime_error("socketpair failed");
+    }
+    reader_ = std::thread([fd = ends_[1]] {
+      std::array<char, kReadChunkBytes> chunk{};
+      while (::read(fd, chunk.data(), chunk.size()) > 0) {
+      }
+    });
+  }
+  DrainedSocket(const DrainedSocket&) = delete;
+  DrainedSocket& operator=(const DrainedSocket&) = delete;
+  ~DrainedSocket() {
+    ::close(ends_[0]);  // the reader's read returns 0
+    reader_.join();
+    ::close(ends_[1]);
+  }
+  void write_all(const std::string& bytes) {
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+      const ssize_t n = ::write(ends_[0], bytes.data() + sent, bytes.size() - sent);
+      if (n <= 0) throw std::runtime_error("write to the subscriber's socket failed");
+      sent += static_cast<std::size_t>(n);
+    }
+  }
+
+ private:
+  static constexpr std::size_t kReadChunkBytes = 1 << 16;
+  int ends_[2] = {-1, -1};
+  std::thread reader_;
+};
+
 double resident_mb() {
   std::ifstream status("/proc/self/status");
   std::string line;
@@ -56,7 +104,7 @@ double resident_mb() {
   return 0.0;
 }
 
-void compensation_path(benchmark::State& state, bool paced, bool encode_json) {
+void compensation_path(benchmark::State& state, bool paced, Subscriber subscriber) {
   const auto wire = telegrams(256);
   auto calibration =
       std::make_shared<const tofcomp::core::Calibration>(tofcomp::io::read_calibration_file(
@@ -65,6 +113,11 @@ void compensation_path(benchmark::State& state, bool paced, bool encode_json) {
   pipeline.set_calibration(calibration, 1);
   tofcomp::ipc::ring::RingWriter ring("/tofcomp-bench-" + std::to_string(::getpid()));
   lms::TelegramDecoder decoder(lms::Sender::Device);
+  std::optional<DrainedSocket> client;
+  if (subscriber != Subscriber::None) client.emplace();
+  tofcomp::daemon::socket::Subscription every_beam;  // every beam, every scan
+  every_beam.format = subscriber == Subscriber::Compact ? tofcomp::ipc::socket::ScanFormat::Compact
+                                                        : tofcomp::ipc::socket::ScanFormat::Json;
   const lms::Variant variant{180, 50};
   std::vector<double> latencies_us;
   std::size_t bytes_out = 0;
@@ -88,10 +141,12 @@ void compensation_path(benchmark::State& state, bool paced, bool encode_json) {
       const auto raw = tofcomp::daemon::to_raw_scan(host, variant, time_s);
       const auto published = pipeline.on_scan(raw);
       ring.publish(published);
-      if (!encode_json) return;  // no subscriber: the socket encodes nothing
-      const std::string json = tofcomp::ipc::socket::encode_scan(
-          published, tofcomp::ipc::socket::beams_exactly(std::nullopt, published.beams.size()));
-      bytes_out += json.size();
+      if (subscriber == Subscriber::None) return;  // the socket encodes nothing
+      // The daemon's own fan-out: one encoding per scan, whatever number of clients take it.
+      tofcomp::daemon::socket::ScanFanout fanout(published);
+      const auto bytes_sent = fanout.line_for(every_beam);
+      client->write_all(*bytes_sent);
+      bytes_out += bytes_sent->size();
     });
     latencies_us.push_back(
         std::chrono::duration<double, std::micro>(Clock::now() - arrived).count());
@@ -112,28 +167,39 @@ void compensation_path(benchmark::State& state, bool paced, bool encode_json) {
   state.counters["p99_us"] = at(0.99);
   state.counters["cpu_ms_per_s_of_data"] = mean_us * kScanRate / 1000.0;
   state.counters["rss_mb"] = resident_mb();
-  if (encode_json) {
-    state.counters["json_bytes_per_scan"] =
+  if (subscriber != Subscriber::None) {
+    state.counters["bytes_per_scan"] =
         static_cast<double>(bytes_out) / static_cast<double>(scans);
   }
 }
 
+constexpr int kFlatOutScans = 20000;
+constexpr int kPacedScans = 1500;  // 20 s at 75 scans/s
+
 // Decoder, pipeline and ring: what every scan costs.
 void BM_CompensationPathAsFastAsItGoes(benchmark::State& state) {
-  compensation_path(state, false, false);
+  compensation_path(state, false, Subscriber::None);
 }
-// The same with the socket's JSON encoding of all 361 beams (once per scan when at least one
-// client subscribes to every beam).
+// The same with a subscriber of all 361 beams: the JSON line (encoded once per scan however
+// many clients take it) or the compact frame, written to its socket.
 void BM_CompensationPathWithSocketEncoding(benchmark::State& state) {
-  compensation_path(state, false, true);
+  compensation_path(state, false, Subscriber::Json);
 }
-// Paced at 75 scans/s, with the socket's encoding: the latency a client sees at the real rate.
+void BM_CompensationPathWithCompactSubscriber(benchmark::State& state) {
+  compensation_path(state, false, Subscriber::Compact);
+}
+// Paced at 75 scans/s, with a subscriber: the latency a client sees at the real rate.
 void BM_CompensationPathAtTheLms200Rate(benchmark::State& state) {
-  compensation_path(state, true, true);
+  compensation_path(state, true, Subscriber::Json);
+}
+void BM_CompensationPathAtTheLms200RateCompact(benchmark::State& state) {
+  compensation_path(state, true, Subscriber::Compact);
 }
 
-BENCHMARK(BM_CompensationPathAsFastAsItGoes)->Iterations(20000);
-BENCHMARK(BM_CompensationPathWithSocketEncoding)->Iterations(20000);
-BENCHMARK(BM_CompensationPathAtTheLms200Rate)->Iterations(1500)->UseRealTime();
+BENCHMARK(BM_CompensationPathAsFastAsItGoes)->Iterations(kFlatOutScans);
+BENCHMARK(BM_CompensationPathWithSocketEncoding)->Iterations(kFlatOutScans);
+BENCHMARK(BM_CompensationPathWithCompactSubscriber)->Iterations(kFlatOutScans);
+BENCHMARK(BM_CompensationPathAtTheLms200Rate)->Iterations(kPacedScans)->UseRealTime();
+BENCHMARK(BM_CompensationPathAtTheLms200RateCompact)->Iterations(kPacedScans)->UseRealTime();
 
 }  // namespace
