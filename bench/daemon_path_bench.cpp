@@ -10,10 +10,10 @@
 
 #include <algorithm>
 #include <array>
-#include <optional>
-#include <stdexcept>
 #include <fstream>
+#include <optional>
 #include <random>
+#include <stdexcept>
 #include <thread>
 
 #include <sys/socket.h>
@@ -182,14 +182,14 @@ void BM_CompensationPathAsFastAsItGoes(benchmark::State& state) {
 }
 // The same with a subscriber of all 361 beams: the JSON line (encoded once per scan however
 // many clients take it) or the compact frame, written to its socket.
-void BM_CompensationPathWithSocketEncoding(benchmark::State& state) {
+void BM_CompensationPathWithJsonSubscriber(benchmark::State& state) {
   compensation_path(state, false, Subscriber::Json);
 }
 void BM_CompensationPathWithCompactSubscriber(benchmark::State& state) {
   compensation_path(state, false, Subscriber::Compact);
 }
 // Paced at 75 scans/s, with a subscriber: the latency a client sees at the real rate.
-void BM_CompensationPathAtTheLms200Rate(benchmark::State& state) {
+void BM_CompensationPathAtTheLms200RateJson(benchmark::State& state) {
   compensation_path(state, true, Subscriber::Json);
 }
 void BM_CompensationPathAtTheLms200RateCompact(benchmark::State& state) {
@@ -197,9 +197,9 @@ void BM_CompensationPathAtTheLms200RateCompact(benchmark::State& state) {
 }
 
 BENCHMARK(BM_CompensationPathAsFastAsItGoes)->Iterations(kFlatOutScans);
-BENCHMARK(BM_CompensationPathWithSocketEncoding)->Iterations(kFlatOutScans);
+BENCHMARK(BM_CompensationPathWithJsonSubscriber)->Iterations(kFlatOutScans);
 BENCHMARK(BM_CompensationPathWithCompactSubscriber)->Iterations(kFlatOutScans);
-BENCHMARK(BM_CompensationPathAtTheLms200Rate)->Iterations(kPacedScans)->UseRealTime();
+BENCHMARK(BM_CompensationPathAtTheLms200RateJson)->Iterations(kPacedScans)->UseRealTime();
 BENCHMARK(BM_CompensationPathAtTheLms200RateCompact)->Iterations(kPacedScans)->UseRealTime();
 
 }  // namespace
