@@ -227,7 +227,8 @@ class TermFitter {
 
   // The term at time constant τ, its constants from `rows`.
   core::Term on_rows(const core::Term& t, double tau, const std::vector<Eigen::Index>& rows) const {
-    return data_.covariates().make_term(t.parameter, t.covariate, t.form, t.mode, tau, rows);
+    return data_.covariates().make_term(t.parameter, t.covariate, t.form, t.mode, tau, rows,
+                                        static_cast<int>(t.knots.size()));
   }
 
   double short_fit(const FoldModel& held, const core::Term& t,
@@ -443,6 +444,23 @@ std::optional<core::Term> carried_outliers(const core::Calibration& base) {
   return t;
 }
 
+// The first candidate of each effect (its label) in `order`, of those fitted without error, until
+// `count` effects are held: the candidates a step fits to convergence (model_search.hpp).
+std::vector<std::size_t> best_of_each_effect(const std::vector<std::size_t>& order,
+                                             const std::vector<CandidateResult>& candidates,
+                                             int count) {
+  std::vector<std::size_t> out;
+  std::vector<core::EffectLabel> held;
+  for (const std::size_t c : order) {
+    if (static_cast<int>(out.size()) >= count) break;
+    const CandidateResult& r = candidates[c];
+    if (!r.ok() || std::find(held.begin(), held.end(), r.term.label()) != held.end()) continue;
+    held.push_back(r.term.label());
+    out.push_back(c);
+  }
+  return out;
+}
+
 // The family-wise level (model_search.hpp): the null law of the largest t over every candidate
 // of a step, those fitted to convergence by their final gains, the others by their screen's.
 // `order` ranks the candidates, its first one judged; `run_gains` are indexed by candidate.
@@ -480,13 +498,19 @@ std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariate
   using core::Parameter;
   std::vector<core::Term> out;
   const double tau = core::kTimeConstantGridS[core::kTimeConstantGridS.size() / 2];
+  const auto add_shaped = [&](Parameter p, Covariate c, Form f, int mode, int smooth_knots) {
+    try {
+      out.push_back(covariates.make_term(p, c, f, mode, tau, {}, smooth_knots));
+    } catch (const core::InvalidInput&) {
+      // A covariate these data hold constant (one power-on, no ambient change), or with too few
+      // distinct values for so many knots: no candidate.
+    }
+  };
   const auto add = [&](Parameter p, Covariate c, Form f, int mode) {
     if (c != Covariate::None && !covariates.available(c)) return;
-    try {
-      out.push_back(covariates.make_term(p, c, f, mode, tau));
-    } catch (const core::InvalidInput&) {
-      // A covariate these data hold constant (one power-on, no ambient change): no candidate.
-    }
+    if (f != Form::Smooth) return add_shaped(p, c, f, mode, core::kMinSmoothKnots);
+    // The smooth form once per knot count: the held-out scores choose among them as among forms.
+    for (const int knots : core::kSmoothKnotCounts) add_shaped(p, c, f, mode, knots);
   };
   for (const Covariate c : {Covariate::Time, Covariate::HeatingRate, Covariate::Ambient}) {
     add(Parameter::Bias, c, Form::Linear, -1);
@@ -724,9 +748,17 @@ void ModelSearchRun::State::run_step() {
   std::vector<std::size_t> order(candidates.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   by_gain(order);
-  parallel_for(refined, threads, [&](int j) {
-    const std::size_t c = order[static_cast<std::size_t>(j)];
-    if (!s.candidates[c].ok()) return;
+  // Every candidate when the options ask for all (refined_candidates 0), else the best effects'.
+  std::vector<std::size_t> to_refine;
+  if (options.refined_candidates > 0) {
+    to_refine = best_of_each_effect(order, s.candidates, refined);
+  } else {
+    for (const std::size_t c : order) {
+      if (s.candidates[c].ok()) to_refine.push_back(c);
+    }
+  }
+  parallel_for(static_cast<int>(to_refine.size()), threads, [&](int j) {
+    const std::size_t c = to_refine[static_cast<std::size_t>(j)];
     s.candidates[c].screened_only = false;
     judge(c, [&](int f) {
       const auto fold = static_cast<std::size_t>(f);

@@ -31,8 +31,10 @@
 // A screen, then fits to convergence. Every candidate first gets a short fit on each fold (a
 // few EM iterations from the held model) and is scored on the other fold as above; only the few
 // best by that held-out gain (ModelSearchOptions::refined_candidates) are then fitted to
-// convergence, going on from their short fits, and scored again. The named term is the best of
-// those. Why a short fit ranks: started at the held model's fixed point, EM's first M-step
+// convergence, going on from their short fits, and scored again: the best of that many effects,
+// each by its best form (one effect's forms, and the smooth form's knot counts, would otherwise
+// fill the few places with variants of one explanation and leave out the next one, which a fit
+// to convergence may rank first). The named term is the best of those. Why a short fit ranks: started at the held model's fixed point, EM's first M-step
 // solves the new mean term exactly given the responsibilities (and a spread's or weights' slope
 // by a Newton step), so a term the data support shows most of its gain there; what the rest of
 // the iterations add is the slow exchange between the modes, which every candidate shares. The

@@ -9,9 +9,10 @@
 namespace tofcomp::core {
 namespace {
 
-// The smooth form's knots sit at these quantiles: the ends a little inside the range, so a
-// few extreme values do not stretch the outer pieces.
-constexpr std::array<double, kSmoothKnots> kKnotQuantiles{0.02, 0.26, 0.5, 0.74, 0.98};
+// The smooth form's knots sit at quantiles evenly spaced between these: the ends a little inside
+// the range, so a few extreme values do not stretch the outer pieces.
+constexpr double kFirstKnotQuantile = 0.02;
+constexpr double kLastKnotQuantile = 0.98;
 // A covariate whose standard deviation is below this share of its magnitude is constant.
 constexpr double kRelativeConstantSpread = 1e-9;
 // A parametric noise term's levels span f between the covariate's values at these quantiles
@@ -158,7 +159,8 @@ Eigen::VectorXd CovariateTable::junction_lag(double time_constant_s) const {
 }
 
 Term CovariateTable::make_term(Parameter parameter, Covariate covariate, Form form, int mode,
-                               double time_constant_s, const std::vector<Eigen::Index>& rows) const {
+                               double time_constant_s, const std::vector<Eigen::Index>& rows,
+                               int smooth_knots) const {
   Term term;
   term.parameter = parameter;
   term.covariate = covariate;
@@ -192,9 +194,16 @@ Term CovariateTable::make_term(Parameter parameter, Covariate covariate, Form fo
       term.covariate_high = *high;
     }
   } else if (form == Form::Smooth) {
-    term.knots.resize(kSmoothKnots);
-    for (int i = 0; i < kSmoothKnots; ++i) {
-      term.knots[i] = quantile(sample, kKnotQuantiles[static_cast<std::size_t>(i)]);
+    if (smooth_knots < kMinSmoothKnots || smooth_knots > kMaxSmoothKnots) {
+      throw InvalidInput("term " + term.describe() + ": " + std::to_string(smooth_knots) +
+                         " knots asked for, the smooth form takes " +
+                         std::to_string(kMinSmoothKnots) + " to " +
+                         std::to_string(kMaxSmoothKnots));
+    }
+    term.knots.resize(smooth_knots);
+    for (int i = 0; i < smooth_knots; ++i) {
+      term.knots[i] = quantile(sample, kFirstKnotQuantile + (kLastKnotQuantile - kFirstKnotQuantile) *
+                                                               i / (smooth_knots - 1));
     }
     require_increasing(term.knots, term);
   } else if (form == Form::Bins) {

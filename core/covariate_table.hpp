@@ -40,10 +40,12 @@ class CovariateTable {
   Eigen::VectorXd values(Covariate c, double time_constant_s = 0.0) const;
 
   // A term of the grammar fitted to these data's covariate over `rows` (all when empty): the
-  // smooth form's knots and the bins' edges at its quantiles, the linear form's centre and scale.
-  // Throws InvalidInput when the covariate has too few distinct values for the form.
+  // smooth form's `smooth_knots` knots and the bins' edges at its quantiles, the linear form's
+  // centre and scale. Throws InvalidInput when the covariate has too few distinct values for the
+  // form.
   Term make_term(Parameter parameter, Covariate covariate, Form form, int mode = -1,
-                 double time_constant_s = 0.0, const std::vector<Eigen::Index>& rows = {}) const;
+                 double time_constant_s = 0.0, const std::vector<Eigen::Index>& rows = {},
+                 int smooth_knots = kMinSmoothKnots) const;
   // The term's design columns at every range (K × term.columns()), or its bin of every range.
   Eigen::MatrixXd columns(const Term& term) const;
   Eigen::VectorXi bins(const Term& term) const;

@@ -185,7 +185,7 @@ std::string effect_name(const EffectLabel& label) {
 
 int Term::columns() const {
   if (!is_mean_term()) return 0;
-  return form == Form::Smooth ? kSmoothKnots - 1 : 1;
+  return form == Form::Smooth ? static_cast<int>(knots.size()) - 1 : 1;
 }
 
 std::string Term::describe() const {
@@ -198,6 +198,7 @@ std::string Term::describe() const {
   }
   out << " x " << covariate_token(covariate) << " (" << form_token(form);
   if (needs_time_constant()) out << ", tau = " << std::lround(time_constant_s) << " s";
+  if (form == Form::Smooth) out << ", " << knots.size() << " knots";
   out << ")";
   return out.str();
 }
@@ -230,8 +231,9 @@ void Term::validate() const {
       covariate_high == -kInfinity) {
     fail("needs a covariate range whose low end is not above its high end");
   }
-  if (form == Form::Smooth && knots.size() != kSmoothKnots) {
-    fail("needs " + std::to_string(kSmoothKnots) + " knots");
+  if (form == Form::Smooth && (knots.size() < kMinSmoothKnots || knots.size() > kMaxSmoothKnots)) {
+    fail("needs " + std::to_string(kMinSmoothKnots) + " to " + std::to_string(kMaxSmoothKnots) +
+         " knots, has " + std::to_string(knots.size()));
   }
   if (form == Form::Bins && knots.size() < 1) fail("needs at least one bin edge");
   if (is_parametric_noise() && knots.size() != kNoiseLevels - 1) {

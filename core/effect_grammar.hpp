@@ -84,8 +84,14 @@ std::string effect_name(const EffectLabel& label);
 // between the best point's neighbours.
 inline constexpr std::array<double, 7> kTimeConstantGridS{30.0,  60.0,  120.0, 240.0,
                                                           480.0, 960.0, 1920.0};
-// Knots of the smooth form and bins of the bins form, at the covariate's quantiles.
-inline constexpr int kSmoothKnots = 5;
+// Knots of the smooth form and bins of the bins form, at the covariate's quantiles. The smooth
+// form is a candidate at each count of kSmoothKnotCounts (the search judges them on held-out data
+// like any two candidates: a drift that turns many times needs many knots, a gentle one is
+// over-fitted by them); each count's quantiles hold the one before's, so their models are nested.
+// A term's count is its knots' (a file may hold any count from the first to the last).
+inline constexpr std::array<int, 4> kSmoothKnotCounts{3, 5, 9, 17};
+inline constexpr int kMinSmoothKnots = kSmoothKnotCounts.front();
+inline constexpr int kMaxSmoothKnots = kSmoothKnotCounts.back();
 inline constexpr int kCovariateBins = 4;
 inline constexpr int kNoiseLevels = 24;
 
@@ -127,11 +133,11 @@ struct Term {
   bool needs_time_constant() const {
     return form == Form::Decay || covariate == Covariate::JunctionLag;
   }
-  // Design columns of a mean term: 1 (linear, decay) or kSmoothKnots − 1 (smooth).
+  // Design columns of a mean term: 1 (linear, decay) or its knots − 1 (smooth).
   int columns() const;
   // The bins or levels of a noise term (its knots + 1).
   int levels() const { return static_cast<int>(knots.size()) + 1; }
-  // "bias × time since power-on (decay, τ = 300 s)".
+  // "bias × time since power-on (decay, τ = 300 s)", "bias × time (smooth, 9 knots)".
   std::string describe() const;
   // Throws InvalidInput naming what is inconsistent (a form the parameter does not take, a
   // missing mode, knots not increasing, τ not positive, ...).

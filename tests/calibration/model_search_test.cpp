@@ -24,6 +24,7 @@ enum class Injected {
   None,
   WarmUp,
   TimeDrift,
+  WavyTimeDrift,
   Outliers,
   ModePersistence,
   ModeOffsetWithTemperature,
@@ -47,6 +48,9 @@ constexpr double kRiseC = 7.0;         // the junction's rise above the ambient 
 constexpr double kHeatingTauS = 700.0;  // and its time constant
 constexpr double kFastRiseC = 2.0;  // a fast part of the junction's rise at each power-on
 constexpr double kFastTauS = 10.0;  // and its time constant
+constexpr double kWaveAmplitudeMm = 1.5;  // a drift in time that turns: a sine of this
+constexpr double kWavePeriodS = 12000.0;  // amplitude and period
+constexpr int kWavyCycles = 20;
 
 double fast_rise(double since_on_s) {
   return since_on_s < 0.0 ? 0.0 : kFastRiseC * (1.0 - std::exp(-since_on_s / kFastTauS));
@@ -90,6 +94,9 @@ Record draw_record(Injected effect, unsigned seed, int cycles = 5) {
       double shift = 0.0;
       if (effect == Injected::WarmUp) bias += 3.0 * std::exp(-(t - switched_on) / 240.0);
       if (effect == Injected::TimeDrift) bias += 0.4 * t / 3600.0;
+      if (effect == Injected::WavyTimeDrift) {
+        bias += kWaveAmplitudeMm * std::sin(2.0 * M_PI * t / kWavePeriodS);
+      }
       if (effect == Injected::SaturatingHeatingRate) {
         // A bias that follows the heating rate up to 0.1 °C/min and stays there above it: a
         // term shaped on one fold's slow heating, carried to the other's power-ons (up to
@@ -270,6 +277,40 @@ TEST(ModelSearch, TheScreenNamesWhatFullFitsOfEveryCandidateName) {
       EXPECT_FALSE(a->screened_only);
       for (const CandidateResult& c : full.steps[i].candidates) EXPECT_FALSE(c.screened_only);
     }
+  }
+}
+
+// A drift in time that turns about seven times over the record (a sine of 12,000 s over twenty
+// power cycles, some 45,000 s) cannot be followed by hat functions on five knots, a piece per
+// quarter of the ranges: it needs about two knots per half period. (It is slow against the
+// search's blocks of 800 ranges, so that a fold's model interpolates it across the other fold's
+// blocks; a wave turning within a few blocks is beyond what held-out blocks can confirm.) The
+// search, scoring each knot count on held-out data, names the drift in time with nine knots or
+// more, and d̂'s held-out error falls.
+TEST(ModelSearch, GivesADriftThatTurnsTheKnotsItNeeds) {
+  for (const unsigned seed : {300u, 301u}) {
+    const Record r = draw_record(Injected::WavyTimeDrift, seed, kWavyCycles);
+    const ModelSearchResult s = search(r);
+    ASSERT_FALSE(s.kept.empty()) << seed;
+    const core::Term& drift = s.kept.front();
+    std::string ranking;
+    for (const CandidateResult& c : s.steps.front().candidates) {
+      ranking += "\n  " + c.term.describe() + " gain " + std::to_string(c.held_out_gain) +
+                 " t " + std::to_string(c.t_statistic) + " (critical " +
+                 std::to_string(s.steps.front().critical_t) + ")" +
+                 (c.screened_only ? " (screened)" : "") + (c.ok() ? "" : " " + c.error);
+    }
+    EXPECT_EQ(drift.label(), (core::EffectLabel{core::Parameter::Bias, core::Covariate::Time}))
+        << seed << ": " << drift.describe();
+    EXPECT_EQ(drift.form, core::Form::Smooth) << seed << ": " << drift.describe();
+    EXPECT_GE(drift.knots.size(), 9) << seed << ": " << drift.describe() << ranking;
+    bool compared = false;
+    for (const HeldOutError& e : s.errors) {
+      if (e.window != 200) continue;
+      compared = true;
+      EXPECT_LT(e.after_mae_mm, e.before_mae_mm) << seed;
+    }
+    EXPECT_TRUE(compared) << seed;
   }
 }
 
@@ -473,7 +514,8 @@ TEST(ModelSearch, ShapesEachTermOnTheRangesItIsFittedOn) {
     if (!c.ok() || c.term.covariate == core::Covariate::None) continue;
     const core::Term& t = c.term;
     const core::Term on_all =
-        all.make_term(t.parameter, t.covariate, t.form, t.mode, t.time_constant_s);
+        all.make_term(t.parameter, t.covariate, t.form, t.mode, t.time_constant_s, {},
+                      static_cast<int>(t.knots.size()));
     const Eigen::VectorXd v = all.values(t.covariate, t.time_constant_s);
     if (t.form == core::Form::Smooth) {
       ASSERT_EQ(t.knots.size(), on_all.knots.size()) << t.describe();

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -99,6 +100,57 @@ TEST(CovariateTerm, ARangeWhoseEndsAreReversedOrNotANumberIsRefused) {
   EXPECT_THROW(term.validate(), InvalidInput);
   term.covariate_high = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(term.validate(), InvalidInput);
+}
+
+// The smooth form's knots sit at quantiles evenly spaced from the 2nd to the 98th percentile, so
+// each count of kSmoothKnotCounts holds the knots of the one before (every other knot): its hat
+// functions span the coarser ones' and the models are nested. On the time since power-on, 0..99 s, the q-quantile
+// is ⌊99 q⌋ s.
+TEST(CovariateTerm, EachSmoothKnotCountHoldsTheKnotsOfTheOneBefore) {
+  const CovariateTable c = table();
+  Eigen::VectorXd coarser;
+  for (const int count : kSmoothKnotCounts) {
+    const Term t =
+        c.make_term(Parameter::Bias, Covariate::TimeSincePowerOn, Form::Smooth, -1, 0.0, {}, count);
+    ASSERT_EQ(t.knots.size(), count);
+    EXPECT_EQ(t.columns(), count - 1);
+    EXPECT_DOUBLE_EQ(t.knots[0], 1.0);                                 // ⌊99 · 0.02⌋
+    EXPECT_DOUBLE_EQ(t.knots[count - 1], 97.0);                        // ⌊99 · 0.98⌋
+    EXPECT_DOUBLE_EQ(t.knots[(count - 1) / 2], 49.0);                  // ⌊99 · 0.5⌋
+    for (Eigen::Index i = 0; i < coarser.size(); ++i) {
+      EXPECT_DOUBLE_EQ(t.knots[2 * i], coarser[i]) << count << " knots, knot " << 2 * i;
+    }
+    coarser = t.knots;
+  }
+}
+
+// A file may hold a smooth term with any count the search could have made, and no other; a count
+// outside is refused with the term and the counts named.
+TEST(CovariateTerm, ASmoothTermsKnotCountIsChecked) {
+  Term term;
+  term.parameter = Parameter::Bias;
+  term.covariate = Covariate::Time;
+  term.form = Form::Smooth;
+  for (const int count : {kMinSmoothKnots, 4, 11, kMaxSmoothKnots}) {
+    term.knots = Eigen::VectorXd::LinSpaced(count, 0.0, 10.0);
+    EXPECT_NO_THROW(term.validate()) << count;
+    EXPECT_EQ(term.columns(), count - 1);
+  }
+  for (const int count : {0, kMinSmoothKnots - 1, kMaxSmoothKnots + 1, 1000}) {
+    term.knots = Eigen::VectorXd::LinSpaced(count, 0.0, 10.0);
+    try {
+      term.validate();
+      ADD_FAILURE() << count << " knots accepted";
+    } catch (const InvalidInput& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("bias x time (smooth"), std::string::npos) << what;
+      EXPECT_NE(what.find("has " + std::to_string(count)), std::string::npos) << what;
+    }
+  }
+  const CovariateTable c = table();
+  EXPECT_THROW(c.make_term(Parameter::Bias, Covariate::Time, Form::Smooth, -1, 0.0, {},
+                           kMaxSmoothKnots + 1),
+               InvalidInput);
 }
 
 }  // namespace

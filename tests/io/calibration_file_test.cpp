@@ -344,6 +344,33 @@ TEST(CalibrationFile, ALinearTermsCovariateRangeIsCheckedWhereItStands) {
       << one;
 }
 
+// A smooth term holds as many knots as the search chose (core/effect_grammar.hpp), from 3 to 17:
+// nine come back as written, eighteen are refused where they stand.
+TEST(CalibrationFile, ASmoothTermsKnotCountIsCheckedWhereItStands) {
+  core::Calibration c = example();
+  c.extension = core::ModelExtension{};
+  core::Term drift = term(core::Parameter::Bias, core::Covariate::Time, core::Form::Smooth);
+  drift.knots = Eigen::VectorXd::LinSpaced(9, 0.5, 4.5);
+  c.extension->effects = {drift.label()};
+  c.extension->mean_terms = {{drift, Eigen::VectorXd::LinSpaced(8, -1.0, 2.5)}};
+  c.extension->extended_mixture = core::without_extensions(c.model.mixture);
+  const std::string good = calibration_to_yaml(c);
+  const std::string file = temp_file("nine-knots.yaml");
+  write_calibration_file(file, c);
+  const core::Calibration back = read_calibration_file(file);
+  ASSERT_TRUE(back.extension.has_value());
+  ASSERT_EQ(back.extension->mean_terms.size(), 1u);
+  EXPECT_EQ(back.extension->mean_terms[0].term.knots, drift.knots);
+  EXPECT_EQ(back.extension->mean_terms[0].coefficients, c.extension->mean_terms[0].coefficients);
+  const std::string knots = "[0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5]";
+  ASSERT_NE(good.find("knots: " + knots), std::string::npos) << good;
+  std::string eighteen = "[0";
+  for (int i = 1; i < 18; ++i) eighteen += ", " + std::to_string(i);
+  const std::string refused = error_of(replaced(good, knots, eighteen + "]"));
+  EXPECT_NE(refused.find("extension.terms[0]"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("needs 3 to 17 knots, has 18"), std::string::npos) << refused;
+}
+
 TEST(CalibrationFile, ExtensionErrorsNameTheKey) {
   core::Calibration c = example();
   c.extension = core::ModelExtension{};
