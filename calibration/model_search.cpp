@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "calibration/covariates.hpp"
-#include "calibration/parallel_for.hpp"
 #include "calibration/model_spec.hpp"
+#include "calibration/parallel_for.hpp"
 #include "core/cramer_rao.hpp"
 #include "core/error.hpp"
 #include "core/estimators.hpp"
@@ -498,9 +498,9 @@ std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariate
   using core::Parameter;
   std::vector<core::Term> out;
   const double tau = core::kTimeConstantGridS[core::kTimeConstantGridS.size() / 2];
-  const auto add_shaped = [&](Parameter p, Covariate c, Form f, int mode, int smooth_knots) {
+  const auto add_made = [&](const std::function<core::Term()>& make) {
     try {
-      out.push_back(covariates.make_term(p, c, f, mode, tau, {}, smooth_knots));
+      out.push_back(make());
     } catch (const core::InvalidInput&) {
       // A covariate these data hold constant (one power-on, no ambient change), or with too few
       // distinct values for so many knots: no candidate.
@@ -508,9 +508,13 @@ std::vector<core::Term> grammar_candidates(const core::CovariateTable& covariate
   };
   const auto add = [&](Parameter p, Covariate c, Form f, int mode) {
     if (c != Covariate::None && !covariates.available(c)) return;
-    if (f != Form::Smooth) return add_shaped(p, c, f, mode, core::kMinSmoothKnots);
+    if (f != Form::Smooth) {
+      return add_made([&] { return covariates.make_term(p, c, f, mode, tau); });
+    }
     // The smooth form once per knot count: the held-out scores choose among them as among forms.
-    for (const int knots : core::kSmoothKnotCounts) add_shaped(p, c, f, mode, knots);
+    for (const int knots : core::kSmoothKnotCounts) {
+      add_made([&] { return covariates.make_term(p, c, f, mode, tau, {}, knots); });
+    }
   };
   for (const Covariate c : {Covariate::Time, Covariate::HeatingRate, Covariate::Ambient}) {
     add(Parameter::Bias, c, Form::Linear, -1);
@@ -713,13 +717,17 @@ void ModelSearchRun::State::run_step() {
       r.error = e.what();
     }
   };
-  const int refined = options.refined_candidates > 0
-                          ? std::min<int>(options.refined_candidates,
-                                          static_cast<int>(candidates.size()))
-                          : static_cast<int>(candidates.size());
+  // refined_candidates 0: every candidate is fitted to convergence (no screen decides anything).
+  const bool refine_all = options.refined_candidates == 0;
   std::atomic<int> done{0};
   const double step_share = 1.0 / options.max_steps;
-  const double work = static_cast<double>(candidates.size() + static_cast<std::size_t>(refined));
+  // The step's fits: every screen, then the fits to convergence, as many as refined_candidates
+  // at most until the screen has chosen them (then as many as it chose).
+  double work = static_cast<double>(
+      candidates.size() + (refine_all ? candidates.size()
+                                      : std::min<std::size_t>(
+                                            static_cast<std::size_t>(options.refined_candidates),
+                                            candidates.size())));
   const auto progress_of = [&](const CandidateResult& r, const char* stage) {
     report(step_share * (step + static_cast<double>(++done) / work),
            fmt::format("step {}: {} {}", step + 1, stage, r.term.describe()));
@@ -748,15 +756,17 @@ void ModelSearchRun::State::run_step() {
   std::vector<std::size_t> order(candidates.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   by_gain(order);
-  // Every candidate when the options ask for all (refined_candidates 0), else the best effects'.
+  // Every candidate screened without error, or the best effects' (best_of_each_effect).
   std::vector<std::size_t> to_refine;
-  if (options.refined_candidates > 0) {
-    to_refine = best_of_each_effect(order, s.candidates, refined);
-  } else {
+  if (refine_all) {
     for (const std::size_t c : order) {
       if (s.candidates[c].ok()) to_refine.push_back(c);
     }
+  } else {
+    to_refine = best_of_each_effect(order, s.candidates, options.refined_candidates);
   }
+  // Between the parallel loops, so no progress report reads it as it changes.
+  work = static_cast<double>(candidates.size() + to_refine.size());
   parallel_for(static_cast<int>(to_refine.size()), threads, [&](int j) {
     const std::size_t c = to_refine[static_cast<std::size_t>(j)];
     s.candidates[c].screened_only = false;
