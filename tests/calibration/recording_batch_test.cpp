@@ -5,13 +5,13 @@
 #include "calibration/recording_batch.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <fstream>
 #include <map>
 #include <string>
 
 #include "core/error.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -20,16 +20,11 @@ namespace fs = std::filesystem;
 
 class RecordingBatch : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("tofcomp-batch-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   void write(const std::string& name, const std::string& contents) const {
     std::ofstream(dir_ / name) << contents;
   }
-  fs::path dir_;
+  const test::TemporaryDirectory directory_{"tofcomp-batch"};
+  const fs::path dir_ = directory_.path();
 };
 
 TEST_F(RecordingBatch, ListsTheCsvFilesOfTheDirectoryByName) {

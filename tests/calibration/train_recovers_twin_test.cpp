@@ -14,6 +14,7 @@
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
 #include "sim/twin_csv.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -25,7 +26,8 @@ class TrainRecoversTwin : public ::testing::TestWithParam<unsigned> {};
 TEST_P(TrainRecoversTwin, WithinTolerances) {
   sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
   scenario.seed = GetParam();
-  const std::string file = ::testing::TempDir() + "/twin_" + std::to_string(GetParam()) + ".csv";
+  const test::TemporaryDirectory directory("tofcomp-twin");
+  const std::string file = (directory / "twin.csv").string();
   sim::write_twin_measured_data(file, scenario, sim::simulate_series(scenario));
   std::vector<std::string> warnings;
   const MeasuredData data = read_measured_data(file, 0, warnings);

@@ -29,6 +29,7 @@
 #include <thread>
 
 #include "io/calibration_file.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -98,25 +99,6 @@ Found load_and_identify(const fs::path& file, const core::Calibration& first,
   return Found::Neither;
 }
 
-class TemporaryDirectory {
- public:
-  TemporaryDirectory() {
-    std::string pattern = (fs::path(::testing::TempDir()) / "calibration_crash.XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) ADD_FAILURE() << pattern << ": " << errno;
-    path_ = pattern;
-  }
-  TemporaryDirectory(const TemporaryDirectory&) = delete;
-  TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
-  ~TemporaryDirectory() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 // Runs `write(i)` for i = 0, 1, 2, ... in a child process, waits until the first write has
 // completed (the child says so through a pipe), lets it go on for `delay`, then SIGKILLs it.
 // Returns false, with a failure recorded, when the child did not get that far or died otherwise.
@@ -177,7 +159,7 @@ TEST(CalibrationCrash, KillDuringAtomicWriteLeavesOneOfTheCompleteCalibrations) 
   const core::Calibration first = make_calibration('A', 1);
   const core::Calibration second = make_calibration('B', 2);
   ASSERT_FALSE(identical(first, second));
-  const TemporaryDirectory directory;
+  const test::TemporaryDirectory directory{"calibration-crash"};
   const std::string target = "calibration.yaml";
   const fs::path file = directory.path() / target;
   // The only names the writer's temporary files take: mkstemp's six characters after the
@@ -225,7 +207,7 @@ TEST(CalibrationCrash, KillDuringPlainWriteTearsTheFile) {
   const core::Calibration second = make_calibration('B', 2);
   const std::string first_text = calibration_to_yaml(first);
   const std::string second_text = calibration_to_yaml(second);
-  const TemporaryDirectory directory;
+  const test::TemporaryDirectory directory{"calibration-crash"};
   const fs::path file = directory.path() / "calibration.yaml";
 
   std::mt19937 random(20151124);

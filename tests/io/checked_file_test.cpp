@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -23,12 +24,6 @@ namespace fs = std::filesystem;
 
 class CheckedFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "tofcomp-checked-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   fs::path write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
     return dir_ / name;
@@ -43,7 +38,8 @@ class CheckedFileTest : public ::testing::Test {
     }
     return "";
   }
-  fs::path dir_;
+  const test::TemporaryDirectory directory_{"tofcomp-checked"};
+  const fs::path dir_ = directory_.path();
 };
 
 TEST_F(CheckedFileTest, ARegularFileIsReadWhole) {

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "config_test_support.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::settings {
 namespace {
@@ -21,20 +22,6 @@ const std::string kPaths =
     "recalibration: {source: recording, datasheet: /opt/lms/datasheet.yaml,"
     " recording: {data: data/run.csv}}\n";
 
-// A fresh directory under the system's temporary directory, removed at the end.
-class TemporaryDirectory {
- public:
-  TemporaryDirectory() {
-    std::string pattern = (fs::temp_directory_path() / "tofcompd-config-XXXXXX").string();
-    path_ = ::mkdtemp(pattern.data());
-  }
-  ~TemporaryDirectory() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 void expect_resolved_against(const DaemonConfig& c, const fs::path& dir) {
   EXPECT_EQ(c.emulator.scenario, dir / "scenarios" / "s.yaml");
   EXPECT_EQ(c.emulator.link, dir / "run" / "lms200");
@@ -50,7 +37,7 @@ void expect_resolved_against(const DaemonConfig& c, const fs::path& dir) {
 }
 
 TEST(ConfigPaths, ResolvedAgainstTheFilesDirectory) {
-  const TemporaryDirectory temporary;
+  const test::TemporaryDirectory temporary{"tofcompd-config"};
   const fs::path dir = temporary.path() / "etc";
   fs::create_directories(dir);
   std::ofstream(dir / "tofcompd.yaml") << kPaths;
@@ -69,7 +56,7 @@ TEST(ConfigPaths, ResolvedAgainstTheCurrentDirectoryWithoutABase) {
 }
 
 TEST(ConfigPaths, FileNamedRelativelyIsReadFromItsDirectory) {
-  const TemporaryDirectory temporary;
+  const test::TemporaryDirectory temporary{"tofcompd-config"};
   std::ofstream(temporary.path() / "tofcompd.yaml") << kPaths;
   const fs::path previous = fs::current_path();
   fs::current_path(temporary.path().parent_path());

@@ -20,24 +20,9 @@
 #include <thread>
 #include <vector>
 
+#include "tests/support/temporary_directory.hpp"
+
 namespace tofcomp::test {
-
-class TemporaryDirectory {
- public:
-  TemporaryDirectory() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "tofcompd-e2e-XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TemporaryDirectory() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 // A program run as a child process for the end-to-end tests, its stdout and stderr to a log.
 class ChildProcess {

@@ -18,7 +18,7 @@
 
 #include "core/error.hpp"
 #include "tests/daemon/service/environment_guard.hpp"
-#include "tests/daemon/service/temporary_directory.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::daemon::service {
 namespace {
@@ -63,7 +63,7 @@ class StderrToFile {
 };
 
 TEST(JournalStreamRule, MatchesOnlyTheStreamsOwnDeviceAndInode) {
-  const test_support::TemporaryDirectory directory;
+  const test::TemporaryDirectory directory;
   const fs::path file = directory / "journal_stream_rule.txt";
   const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
   ASSERT_GE(fd, 0);
@@ -88,7 +88,7 @@ TEST(JournalStreamRule, MatchesOnlyTheStreamsOwnDeviceAndInode) {
 
 TEST(JournalStreamRule, AutoFollowsStderr) {
   test_support::EnvironmentGuard environment;
-  const test_support::TemporaryDirectory directory;
+  const test::TemporaryDirectory directory;
   const fs::path file = directory / "auto_stderr.txt";
   StderrToFile redirect(file);
   const std::string ours = device_inode_of(STDERR_FILENO);
@@ -109,7 +109,7 @@ TEST(JournalStreamRule, AutoFollowsStderr) {
 TEST(ConfigureLogging, StderrGetsMessagesAtOrAboveTheLevel) {
   test_support::EnvironmentGuard environment;
   environment.unset("JOURNAL_STREAM");
-  const test_support::TemporaryDirectory directory;
+  const test::TemporaryDirectory directory;
   const fs::path file = directory / "configure_logging_stderr.txt";
   {
     StderrToFile redirect(file);

@@ -16,7 +16,7 @@
 
 #include "core/error.hpp"
 #include "tests/daemon/service/environment_guard.hpp"
-#include "tests/daemon/service/temporary_directory.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::daemon::service {
 namespace {
@@ -55,7 +55,7 @@ class FakeNotifySocket {
   }
 
  private:
-  test_support::TemporaryDirectory directory_;
+  test::TemporaryDirectory directory_;
   std::string path_;
   int fd_ = -1;
 };

@@ -15,7 +15,7 @@
 #include <sstream>
 #include <string>
 
-#include "tests/daemon/service/temporary_directory.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::daemon::service {
 namespace {
@@ -89,7 +89,7 @@ class SystemdFilesTest : public ::testing::Test {
   }
   static bool passes(const CommandResult& r) { return r.exit_code == 0 && r.output.empty(); }
 
-  test_support::TemporaryDirectory directory_;
+  test::TemporaryDirectory directory_;
   std::string unit_;
   std::string instance_unit_;  // tofcompd@.service
 };

@@ -19,6 +19,7 @@
 #include "daemon/socket/request_handler.hpp"
 #include "daemon/socket/socket_server.hpp"
 #include "ipc/socket/client.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::test {
 
@@ -92,31 +93,11 @@ inline ipc::CompensatedScan make_scan(std::uint64_t sequence, std::size_t beams 
   return s;
 }
 
-class TempDir {
- public:
-  TempDir() {
-    char pattern[] = "/tmp/tofcomp-sock-XXXXXX";
-    const char* made = ::mkdtemp(pattern);
-    if (made == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = made;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
-
 class SocketHarness {
  public:
   explicit SocketHarness(sock::SocketServerSettings settings = {})
       : settings_(std::move(settings)), work_(boost::asio::make_work_guard(io_)) {
-    settings_.path = dir_.path() + "/tofcompd.sock";
+    settings_.path = (dir_ / "tofcompd.sock").string();
     io_thread_ = std::thread([this] { io_.run(); });
   }
   ~SocketHarness() {
@@ -195,11 +176,11 @@ class SocketHarness {
   FakeDaemon& daemon() { return daemon_; }
   const std::string& path() const { return settings_.path; }
   void set_path(const std::string& path) { settings_.path = path; }  // before start_server
-  const std::string& dir() const { return dir_.path(); }
+  std::string dir() const { return dir_.path().string(); }
   const sock::SocketServerSettings& settings() const { return settings_; }
 
  private:
-  TempDir dir_;
+  test::TemporaryDirectory dir_{"tofcomp-sock", test::kSocketParent};
   sock::SocketServerSettings settings_;
   FakeDaemon daemon_;
   boost::asio::io_context io_;

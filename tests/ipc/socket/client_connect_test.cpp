@@ -9,21 +9,16 @@
 #include <string>
 
 #include "ipc/socket/client.hpp"
+#include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::ipc::socket {
 namespace {
 
 using namespace std::chrono_literals;
 
-std::string temp_dir() {
-  char pattern[] = "/tmp/tofcomp-client-XXXXXX";
-  const char* dir = ::mkdtemp(pattern);
-  if (dir == nullptr) throw std::runtime_error("mkdtemp failed");
-  return dir;
-}
-
 TEST(ClientConnect, MissingSocketSaysNoSuchFileAndAsksWhetherTheDaemonRuns) {
-  const std::string path = temp_dir() + "/tofcompd.sock";
+  const test::TemporaryDirectory directory("tofcomp-client", test::kSocketParent);
+  const std::string path = (directory / "tofcompd.sock").string();
   try {
     SocketClient client(path, 1s);
     FAIL() << "connected";
@@ -34,7 +29,8 @@ TEST(ClientConnect, MissingSocketSaysNoSuchFileAndAsksWhetherTheDaemonRuns) {
 }
 
 TEST(ClientConnect, SocketFileWithNobodyListeningIsRefused) {
-  const std::string path = temp_dir() + "/stale.sock";
+  const test::TemporaryDirectory directory("tofcomp-client", test::kSocketParent);
+  const std::string path = (directory / "stale.sock").string();
   const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
   sockaddr_un address{};
   address.sun_family = AF_UNIX;
