@@ -115,6 +115,7 @@ TEST(DaemonEndToEnd, PublishesWhatTheReplayOfItsRecordingComputes) {
 
   ASSERT_EQ(daemon.terminate(), 0) << daemon.log();
   EXPECT_NE(daemon.log().find("unknown_section"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists("/dev/shm" + shm)) << "the ring outlived tofcompd";
 
   // The recording, replayed offline with the daemon's configuration, gives the same numbers.
   write_file(config, config_text(dir.path(), shm, calibration));

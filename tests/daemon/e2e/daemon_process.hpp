@@ -27,6 +27,8 @@ namespace tofcomp::test {
 // A program run as a child process for the end-to-end tests, its stdout and stderr to a log.
 class ChildProcess {
  public:
+  // How long a child still running when the test ends gets to stop after SIGTERM.
+  static constexpr std::chrono::seconds kStopLimit{10};
   ChildProcess(const char* program, const std::vector<std::string>& arguments,
                const std::filesystem::path& log)
       : log_(log) {
@@ -43,8 +45,10 @@ class ChildProcess {
       ::_exit(127);
     }
   }
+  // Stopped as a service manager stops it, so that it removes what it made (tofcompd its ring
+  // in /dev/shm, which SIGKILL would leave behind); killed when it does not stop in time.
   ~ChildProcess() {
-    if (pid_ > 0 && !exited_) {
+    if (pid_ > 0 && !exited_ && terminate(kStopLimit) < 0) {
       ::kill(pid_, SIGKILL);
       ::waitpid(pid_, nullptr, 0);
     }
