@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "calibration/covariates.hpp"
@@ -444,18 +445,33 @@ std::optional<core::Term> carried_outliers(const core::Calibration& base) {
   return t;
 }
 
-// The first candidate of each effect (its label) in `order`, of those fitted without error, until
-// `count` effects are held: the candidates a step fits to convergence (model_search.hpp).
-std::vector<std::size_t> best_of_each_effect(const std::vector<std::size_t>& order,
-                                             const std::vector<CandidateResult>& candidates,
-                                             int count) {
-  std::vector<std::size_t> out;
-  std::vector<core::EffectLabel> held;
+// The candidates a step fits to convergence (model_search.hpp): of the first `count` effects
+// (labels) in `order`, among the candidates screened without error, the first of each form. The
+// screen ranks the variants of one form fairly (the smooth form's knot counts alike), but not one
+// form against another: a decay's or a lag's τ is only on its grid until the fit to convergence
+// refines it, so a form without a τ gets ahead in the screen by what the grid's spacing costs.
+std::vector<std::size_t> best_forms_of_best_effects(const std::vector<std::size_t>& order,
+                                                    const std::vector<CandidateResult>& candidates,
+                                                    int count) {
+  std::vector<core::EffectLabel> effects;
   for (const std::size_t c : order) {
-    if (static_cast<int>(out.size()) >= count) break;
     const CandidateResult& r = candidates[c];
-    if (!r.ok() || std::find(held.begin(), held.end(), r.term.label()) != held.end()) continue;
-    held.push_back(r.term.label());
+    if (!r.ok() || std::find(effects.begin(), effects.end(), r.term.label()) != effects.end()) {
+      continue;
+    }
+    if (static_cast<int>(effects.size()) >= count) break;
+    effects.push_back(r.term.label());
+  }
+  std::vector<std::size_t> out;
+  std::vector<std::pair<core::EffectLabel, core::Form>> held;
+  for (const std::size_t c : order) {
+    const CandidateResult& r = candidates[c];
+    if (!r.ok() || std::find(effects.begin(), effects.end(), r.term.label()) == effects.end()) {
+      continue;
+    }
+    const std::pair<core::EffectLabel, core::Form> effect_form{r.term.label(), r.term.form};
+    if (std::find(held.begin(), held.end(), effect_form) != held.end()) continue;
+    held.push_back(effect_form);
     out.push_back(c);
   }
   return out;
@@ -717,16 +733,16 @@ void ModelSearchRun::State::run_step() {
       r.error = e.what();
     }
   };
-  // refined_candidates 0: every candidate is fitted to convergence (no screen decides anything).
-  const bool refine_all = options.refined_candidates == 0;
+  // refined_effects 0: every candidate is fitted to convergence (no screen decides anything).
+  const bool refine_all = options.refined_effects == 0;
   std::atomic<int> done{0};
   const double step_share = 1.0 / options.max_steps;
-  // The step's fits: every screen, then the fits to convergence, as many as refined_candidates
-  // at most until the screen has chosen them (then as many as it chose).
+  // The step's fits: every screen, then the fits to convergence, refined_effects of them as an
+  // estimate until the screen has chosen them (then as many as it chose).
   double work = static_cast<double>(
       candidates.size() + (refine_all ? candidates.size()
                                       : std::min<std::size_t>(
-                                            static_cast<std::size_t>(options.refined_candidates),
+                                            static_cast<std::size_t>(options.refined_effects),
                                             candidates.size())));
   const auto progress_of = [&](const CandidateResult& r, const char* stage) {
     report(step_share * (step + static_cast<double>(++done) / work),
@@ -756,14 +772,14 @@ void ModelSearchRun::State::run_step() {
   std::vector<std::size_t> order(candidates.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   by_gain(order);
-  // Every candidate screened without error, or the best effects' (best_of_each_effect).
+  // Every candidate screened without error, or the best effects' forms.
   std::vector<std::size_t> to_refine;
   if (refine_all) {
     for (const std::size_t c : order) {
       if (s.candidates[c].ok()) to_refine.push_back(c);
     }
   } else {
-    to_refine = best_of_each_effect(order, s.candidates, options.refined_candidates);
+    to_refine = best_forms_of_best_effects(order, s.candidates, options.refined_effects);
   }
   // Between the parallel loops, so no progress report reads it as it changes.
   work = static_cast<double>(candidates.size() + to_refine.size());

@@ -30,11 +30,14 @@
 //
 // A screen, then fits to convergence. Every candidate first gets a short fit on each fold (a
 // few EM iterations from the held model) and is scored on the other fold as above; only the few
-// best by that held-out gain (ModelSearchOptions::refined_candidates) are then fitted to
-// convergence, going on from their short fits, and scored again: the best of that many effects,
-// each by its best form (one effect's forms, and the smooth form's knot counts, would otherwise
-// fill the few places with variants of one explanation and leave out the next one, which a fit
-// to convergence may rank first). The named term is the best of those. Why a short fit ranks: started at the held model's fixed point, EM's first M-step
+// effects best by that held-out gain (ModelSearchOptions::refined_effects) are then fitted to
+// convergence, going on from their short fits, and scored again: of each, the best candidate of
+// each form (the smooth form's knot counts would otherwise fill the few places with
+// variants of one explanation and leave out the next one, which a fit to convergence may rank
+// first; one form per effect would let the screen choose between forms, which it does not rank
+// fairly: a decay's τ is refined off its grid only in the fit to convergence, and on a warm-up
+// the screen put a 17-knot smooth form ahead of the decay that beats it after convergence, by
+// 1,281 against 1,218 nats). The named term is the best of those. Why a short fit ranks: started at the held model's fixed point, EM's first M-step
 // solves the new mean term exactly given the responsibilities (and a spread's or weights' slope
 // by a Newton step), so a term the data support shows most of its gain there; what the rest of
 // the iterations add is the slow exchange between the modes, which every candidate shares. The
@@ -78,10 +81,10 @@ struct ModelSearchOptions {
   Eigen::Index stride = 10;  // ranges between windows of the d̂ comparison
   double resolution = kRangeResolutionMm;
   int threads = 0;  // candidates fitted at once; 0: one per core
-  // Candidates fitted to convergence after the screen, the best by its held-out gain; 0: all
-  // (no screen decides anything).
-  int refined_candidates = kRefinedCandidates;
-  static constexpr int kRefinedCandidates = 4;
+  // Effects fitted to convergence after the screen (each form of each), the best by their
+  // held-out gain; 0: every candidate (no screen decides anything).
+  int refined_effects = kRefinedEffects;
+  static constexpr int kRefinedEffects = 4;
 };
 
 // The level at which a candidate is told apart from the named one: the named candidate's

@@ -164,9 +164,10 @@ std::string search_text(const calibration::ModelSearchResult& search,
       "({} blocks of {} ranges) and scored on the other, {}; kept at {:g} family-wise "
       "(max-T: the largest t of the step's candidates under sign flips of the same runs)\n",
       search.candidates_per_step, search.blocks, search.block,
-      options.refined_candidates > 0
-          ? fmt::format("screened by short fits, the best {} fitted to convergence",
-                        options.refined_candidates)
+      options.refined_effects > 0
+          ? fmt::format("screened by short fits, each form of the best {} effects fitted to "
+                        "convergence",
+                        options.refined_effects)
           : std::string("each fitted to convergence"),
       options.alpha);
   if (search.basis_directions_held > 0) {

@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "calibration/covariates.hpp"
 #include "core/em_train.hpp"
@@ -250,7 +252,7 @@ TEST(ModelSearch, TheScreenNamesWhatFullFitsOfEveryCandidateName) {
     ModelSearchOptions options;
     options.threads = 2;
     const ModelSearchResult screened = search_model(r.data, r.calibration, r.junction, options);
-    options.refined_candidates = 0;
+    options.refined_effects = 0;
     const ModelSearchResult full = search_model(r.data, r.calibration, r.junction, options);
     const std::string what = "effect " + std::to_string(static_cast<int>(effect));
     ASSERT_EQ(screened.steps.size(), full.steps.size()) << what;
@@ -269,11 +271,28 @@ TEST(ModelSearch, TheScreenNamesWhatFullFitsOfEveryCandidateName) {
       // for their fits to convergence to within a few hundredths in t.
       EXPECT_NEAR(screened.steps[i].critical_t, full.steps[i].critical_t, kCriticalTTolerance)
           << what;
-      int converged = 0;
+      // Fitted to convergence: kRefinedEffects effects, one candidate of each of their forms
+      // (the smooth form's knot counts one form), each the best of its effect and form by the
+      // screen's gain.
+      std::vector<std::pair<core::EffectLabel, core::Form>> converged;
+      std::vector<core::EffectLabel> effects;
+      const auto holds = [](const auto& list, const auto& item) {
+        return std::find(list.begin(), list.end(), item) != list.end();
+      };
       for (const CandidateResult& c : screened.steps[i].candidates) {
-        converged += c.ok() && !c.screened_only;
+        if (!c.ok() || c.screened_only) continue;
+        EXPECT_FALSE(holds(converged, std::pair{c.term.label(), c.term.form}))
+            << what << ": two of " << c.term.describe();
+        converged.emplace_back(c.term.label(), c.term.form);
+        if (!holds(effects, c.term.label())) effects.push_back(c.term.label());
       }
-      EXPECT_EQ(converged, ModelSearchOptions::kRefinedCandidates) << what;
+      EXPECT_EQ(effects.size(), ModelSearchOptions::kRefinedEffects) << what;
+      for (const CandidateResult& c : screened.steps[i].candidates) {
+        if (c.ok() && c.screened_only && holds(effects, c.term.label())) {
+          EXPECT_TRUE(holds(converged, std::pair{c.term.label(), c.term.form}))
+              << what << ": a form of a fitted effect left screened: " << c.term.describe();
+        }
+      }
       EXPECT_FALSE(a->screened_only);
       for (const CandidateResult& c : full.steps[i].candidates) EXPECT_FALSE(c.screened_only);
     }
@@ -417,7 +436,7 @@ TEST(ModelSearch, TellsApartWhatTheDataTellApart) {
   r.data.power_changes.clear();
   ModelSearchOptions options;
   options.threads = 2;
-  options.refined_candidates = 0;
+  options.refined_effects = 0;
   options.max_steps = 1;
   const ModelSearchResult s = search_model(r.data, r.calibration, r.junction, options);
   ASSERT_EQ(s.steps.size(), 1u);
