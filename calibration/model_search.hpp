@@ -32,19 +32,19 @@
 // few EM iterations from the held model) and is scored on the other fold as above; only the few
 // effects best by that held-out gain (ModelSearchOptions::refined_effects) are then fitted to
 // convergence, going on from their short fits, and scored again: of each, the best candidate of
-// each form (the smooth form's knot counts would otherwise fill the few places with
-// variants of one explanation and leave out the next one, which a fit to convergence may rank
-// first; one form per effect would let the screen choose between forms, which it does not rank
-// fairly: a decay's τ is refined off its grid only in the fit to convergence, and on a warm-up
-// the screen put a 17-knot smooth form ahead of the decay that beats it after convergence, by
-// 1,281 against 1,218 nats). The named term is the best of those. Why a short fit ranks: started at the held model's fixed point, EM's first M-step
-// solves the new mean term exactly given the responsibilities (and a spread's or weights' slope
-// by a Newton step), so a term the data support shows most of its gain there; what the rest of
-// the iterations add is the slow exchange between the modes, which every candidate shares. The
-// max-T law takes every candidate of the step, the screened ones by their short fits' gains
-// (standing in for the fits to convergence they did not get: those rank them, and a gain's
-// dependence on the others comes from the ranges it is made on); only a candidate fitted to
-// convergence can be named and kept.
+// each form (the smooth form's knot counts would otherwise fill the few places with variants of
+// one explanation and leave out the next one, which a fit to convergence may rank first; one
+// form per effect would let the screen choose between forms, which it does not rank fairly: a
+// decay's τ is refined off its grid only in the fit to convergence, and on a warm-up the screen
+// put a 17-knot smooth form ahead of the decay that beats it after convergence, by 1,281 against
+// 1,218 nats). The named term is the best of those. Why a short fit ranks: started at the held
+// model's fixed point, EM's first M-step solves the new mean term exactly given the
+// responsibilities (and a spread's or weights' slope by a Newton step), so a term the data
+// support shows most of its gain there; what the rest of the iterations add is the slow exchange
+// between the modes, which every candidate shares. The max-T law takes every candidate of the
+// step, the screened ones by their short fits' gains (standing in for the fits to convergence
+// they did not get: those rank them, and a gain's dependence on the others comes from the ranges
+// it is made on); only a candidate fitted to convergence can be named and kept.
 //
 // A term's shape (a linear form's centre, scale and covariate range, the knots, the bins' edges)
 // is taken from the fold's own training ranges, never from the ranges it is scored on, and its
