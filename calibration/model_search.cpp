@@ -74,7 +74,9 @@ struct Folds {
   std::vector<bool> is_scored;                         // per range
   std::vector<int> fold_of_block;
   int blocks = 0;
-  const std::vector<Eigen::Index>& training(int f) const { return rows[static_cast<std::size_t>(f)]; }
+  const std::vector<Eigen::Index>& training(int f) const {
+    return rows[static_cast<std::size_t>(f)];
+  }
   const std::vector<Eigen::Index>& held_out(int f) const {
     return scored[static_cast<std::size_t>(f)];
   }
@@ -331,7 +333,8 @@ BlockTest block_test(const Eigen::VectorXd& gain, const Folds& folds) {
     in_run = (in_run + 1) % run;
   }
   BlockTest out;
-  out.run_gains = Eigen::Map<const Eigen::VectorXd>(runs.data(), static_cast<Eigen::Index>(runs.size()));
+  out.run_gains =
+      Eigen::Map<const Eigen::VectorXd>(runs.data(), static_cast<Eigen::Index>(runs.size()));
   if (out.run_gains.size() < 2) return out;
   out.gain = out.run_gains.sum();
   const core::BlockGainTest test = core::block_gain_t_test(out.run_gains);
@@ -617,6 +620,12 @@ struct ModelSearchRun::State {
   }
 
   void run_step();
+  void drop_redundant_terms();
+  // Each fold's model without the step at `left_out`: the base model with the other held steps'
+  // terms, fitted in their order.
+  std::array<FoldModel, kFolds> held_without(std::size_t left_out) const;
+  bool was_dropped(const core::EffectLabel& label) const;
+  void hold(const std::array<FoldModel, kFolds>& models, WindowErrors errors);
 
   const ModelSearchOptions options;
   const ModelSearchProgress progress;
@@ -632,12 +641,15 @@ struct ModelSearchRun::State {
   ModelSpec base_spec;
   ModelSearchResult result;  // its steps, the kept carried term; the rest at the end
   std::array<FoldModel, kFolds> held;
+  std::array<FoldModel, kFolds> base_held;  // the training's model on each fold
   Eigen::VectorXd held_scores;
   WindowErrors training_errors;
   WindowErrors held_errors;
   bool finished = false;
-  // result()'s fits on all the data: the base model, then one per kept step with its term added.
+  // result()'s fits on all the data: the base model, then one per held step with its term
+  // added (the steps' positions in all_data_steps).
   mutable std::vector<FoldModel> all_data_fits;
+  mutable std::vector<std::size_t> all_data_steps;
 };
 
 ModelSearchRun::ModelSearchRun(const MeasuredData& data, const core::Calibration& base,
@@ -676,6 +688,7 @@ ModelSearchRun::ModelSearchRun(const MeasuredData& data, const core::Calibration
     score_held_out(s.search_data, s.held[static_cast<std::size_t>(f)], s.folds.held_out(f),
                    options.resolution, s.held_scores);
   });
+  s.base_held = s.held;
   s.result.base_held_out_log_likelihood = s.held_scores.sum();
   s.training_errors = window_errors_of(s.search_data, s.held, s.folds, options, s.threads);
   s.held_errors = s.training_errors;
@@ -701,7 +714,7 @@ void ModelSearchRun::State::run_step() {
   const int modes = held[0].fit.model.modes.modes();
   std::vector<core::Term> candidates;
   for (const core::Term& t : grammar_candidates(search_data.covariates(), modes)) {
-    if (held[0].spec.accepts(t)) candidates.push_back(t);
+    if (held[0].spec.accepts(t) && !was_dropped(t.label())) candidates.push_back(t);
   }
   if (candidates.empty()) {
     finished = true;
@@ -838,18 +851,86 @@ void ModelSearchRun::State::run_step() {
     s.errors =
         compare_held_out(held_errors, best_errors, best[0].fit.model.modes, folds, options);
     s.kept = named->passes(s.critical_t);
-    if (s.kept) {
-      held = best;
-      held_errors = best_errors;
-      for (int f = 0; f < kFolds; ++f) {
-        score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
-                       options.resolution, held_scores);
-      }
-    }
+    if (s.kept) hold(best, best_errors);
   }
   const bool kept = s.kept;
   result.steps.push_back(std::move(s));
+  if (kept) drop_redundant_terms();
   finished = !kept || static_cast<int>(result.steps.size()) >= options.max_steps;
+}
+
+void ModelSearchRun::State::hold(const std::array<FoldModel, kFolds>& models,
+                                 WindowErrors errors) {
+  held = models;
+  held_errors = std::move(errors);
+  for (int f = 0; f < kFolds; ++f) {
+    score_held_out(search_data, held[static_cast<std::size_t>(f)], folds.held_out(f),
+                   options.resolution, held_scores);
+  }
+}
+
+bool ModelSearchRun::State::was_dropped(const core::EffectLabel& label) const {
+  return std::any_of(result.steps.begin(), result.steps.end(), [&](const SearchStep& s) {
+    return s.dropped && s.named()->term.label() == label;
+  });
+}
+
+std::array<FoldModel, kFolds> ModelSearchRun::State::held_without(std::size_t left_out) const {
+  std::array<FoldModel, kFolds> out = base_held;
+  for (int f = 0; f < kFolds; ++f) {
+    FoldModel& model = out[static_cast<std::size_t>(f)];
+    for (std::size_t i = 0; i < result.steps.size(); ++i) {
+      const SearchStep& step = result.steps[i];
+      if (i == left_out || !step.held()) continue;
+      model = fitter.fit(model, step.named()->term, folds.training(f)).model;
+    }
+  }
+  return out;
+}
+
+// Backward elimination (model_search.hpp), after the last step kept a term.
+void ModelSearchRun::State::drop_redundant_terms() {
+  const int after_step = static_cast<int>(result.steps.size());
+  for (;;) {
+    std::vector<std::size_t> earlier;  // the held steps before the last
+    for (std::size_t i = 0; i + 1 < result.steps.size(); ++i) {
+      if (result.steps[i].held()) earlier.push_back(i);
+    }
+    if (earlier.empty()) return;
+    // Without each earlier term at once; one that cannot be refitted without stays.
+    std::vector<std::optional<std::array<FoldModel, kFolds>>> without(earlier.size());
+    parallel_for(static_cast<int>(earlier.size()), threads, [&](int j) {
+      try {
+        without[static_cast<std::size_t>(j)] = held_without(earlier[static_cast<std::size_t>(j)]);
+      } catch (const core::Error&) {
+      }
+    });
+    std::optional<std::size_t> weakest;  // of `earlier`
+    for (std::size_t j = 0; j < earlier.size(); ++j) {
+      if (!without[j]) continue;
+      Eigen::VectorXd scores = Eigen::VectorXd::Zero(search_data.size());
+      for (int f = 0; f < kFolds; ++f) {
+        score_held_out(search_data, (*without[j])[static_cast<std::size_t>(f)],
+                       folds.held_out(f), options.resolution, scores);
+      }
+      const BlockTest test = block_test(held_scores - scores, folds);
+      SearchStep& step = result.steps[earlier[j]];
+      step.judged_again_after_step = after_step;
+      step.gain_beside_later = test.gain;
+      step.t_beside_later = test.t;
+      const bool still_passes = test.gain > 0.0 && test.t > step.critical_t;
+      if (!still_passes && (!weakest || test.t < result.steps[earlier[*weakest]].t_beside_later)) {
+        weakest = j;
+      }
+    }
+    if (!weakest) return;
+    SearchStep& dropped = result.steps[earlier[*weakest]];
+    dropped.dropped = true;
+    const std::array<FoldModel, kFolds>& models = *without[*weakest];
+    hold(models, window_errors_of(search_data, models, folds, options, threads));
+    report(static_cast<double>(after_step) / options.max_steps,
+           fmt::format("step {}: dropped {}", after_step, dropped.named()->term.describe()));
+  }
 }
 
 ModelSearchResult ModelSearchRun::result() const {
@@ -859,18 +940,26 @@ ModelSearchResult ModelSearchRun::result() const {
   // earlier call made (a search paused for the structure re-check, then run on) are taken again.
   // A carried component was fitted with the modes held (its weight alone); here every parameter
   // with it, as each fold's held model was, and as a kept term is.
+  // A dropped term leaves the fits from its own on to be made again.
   std::vector<FoldModel>& fits = s.all_data_fits;
+  std::vector<std::size_t>& fitted_steps = s.all_data_steps;
   if (fits.empty()) fits.push_back(s.carried ? s.fit_base({}) : FoldModel{s.base_spec, s.base_fit});
-  std::size_t kept_count = 0;
-  for (const SearchStep& step : result.steps) {
-    if (!step.kept) continue;
-    ++kept_count;
-    if (fits.size() <= kept_count) {
-      fits.push_back(s.fitter.fit(fits.back(), step.named()->term, {}).model);
+  std::size_t held_count = 0;
+  for (std::size_t i = 0; i < result.steps.size(); ++i) {
+    const SearchStep& step = result.steps[i];
+    if (!step.held()) continue;
+    if (held_count < fitted_steps.size() && fitted_steps[held_count] != i) {
+      fitted_steps.resize(held_count);
+      fits.resize(held_count + 1);
     }
-    result.kept.push_back(last_added(fits[kept_count].spec, step.named()->term));
+    ++held_count;
+    if (fits.size() <= held_count) {
+      fits.push_back(s.fitter.fit(fits.back(), step.named()->term, {}).model);
+      fitted_steps.push_back(i);
+    }
+    result.kept.push_back(last_added(fits[held_count].spec, step.named()->term));
   }
-  const FoldModel& all = fits[kept_count];
+  const FoldModel& all = fits[held_count];
   result.calibration = calibration_of(all.spec, all.fit, s.calibration, s.search_data);
   if (result.kept.size() > static_cast<std::size_t>(result.carried_from_training)) {
     result.calibration.provenance.notes += "; extended by the model search";

@@ -26,7 +26,17 @@
 // the largest gain outright let a gain made in a few runs (a power-on's transient: t 2.0, under
 // the level) hide one that most runs show (t 4.1, a little less gain), and keep neither. Then
 // the search goes on from the model with the kept term (forward selection), until nothing more
-// passes or max_steps terms are held.
+// passes or max_steps steps have run.
+//
+// Backward elimination. A term kept first can be a neighbour of the effect a later step finds
+// (a warm-up after power-on where the thermal network lacks a state: the state explains the
+// power-ons and the rest): once the later term is held, the first may add nothing. So after a
+// step keeps a term, each term an earlier step kept is judged again as a candidate would be: the
+// held model is refitted on each fold without it (the other held terms in their order), and the
+// held-out gain of keeping it is tested on the same runs; when its t no longer passes the
+// critical t of the step that kept it, the term with the smallest t is dropped, and the others
+// are judged again. A dropped effect is not a candidate again (no cycle). Dropping only ever
+// removes terms, so the chance of keeping anything on data with nothing missing is unchanged.
 //
 // A screen, then fits to convergence. Every candidate first gets a short fit on each fold (a
 // few EM iterations from the held model) and is scored on the other fold as above; only the few
@@ -76,7 +86,7 @@ namespace tofcomp::calibration {
 
 struct ModelSearchOptions {
   double alpha = 0.05;  // the family-wise false-alarm level of the whole search
-  int max_steps = 3;    // terms added at most
+  int max_steps = 3;    // steps at most (each names a term; a kept one is added)
   std::vector<Eigen::Index> windows{200, 400, 800};
   Eigen::Index stride = 10;  // ranges between windows of the d̂ comparison
   double resolution = kRangeResolutionMm;
@@ -138,7 +148,16 @@ struct SearchStep {
   double critical_p = 0.0;
   double family_wise_p = 1.0;
   bool kept = false;
+  // A kept term judged again after a later step kept one (backward elimination, above): the
+  // last such step (1-based; 0 when none), and the comparison there, the model held after it
+  // against that model refitted without this term: the held-out gain of keeping the term (nats)
+  // and its t. When the t no longer passed this step's critical_t, the term was dropped there.
+  int judged_again_after_step = 0;
+  double gain_beside_later = 0.0;
+  double t_beside_later = 0.0;
+  bool dropped = false;
   std::vector<HeldOutError> errors;  // of the named (first) candidate
+  bool held() const { return kept && !dropped; }
   const CandidateResult* named() const {
     return !candidates.empty() && candidates.front().ok() ? &candidates.front() : nullptr;
   }
@@ -148,7 +167,7 @@ struct SearchStep {
 
 struct ModelSearchResult {
   std::vector<SearchStep> steps;
-  std::vector<core::Term> kept;       // in the order added, as fitted on all the data
+  std::vector<core::Term> kept;       // held at the end, in the order added, fitted on all the data
   // The first kept terms came with the training's calibration rather than from a step: its
   // outlier component for gross errors (calibration/gross_errors.hpp), 0 or 1.
   int carried_from_training = 0;

@@ -25,7 +25,8 @@ nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
   return out;
 }
 
-// A term to draw: the term, the step that named it, and whether that step kept it.
+// A term to draw: the term, the step that named it, and whether the final model holds it (kept
+// by its step and not dropped after a later one).
 struct FigureTerm {
   core::Term term;
   int step = 0;  // 1-based
@@ -44,7 +45,7 @@ std::vector<FigureTerm> figure_terms(const calibration::ModelSearchResult& searc
     const calibration::SearchStep& step = search.steps[s];
     const calibration::CandidateResult* named = step.named();
     if (!named) continue;
-    const bool held = step.kept && kept < search.kept.size();
+    const bool held = step.held() && kept < search.kept.size();
     out.push_back(
         {held ? search.kept[kept++] : named->term, static_cast<int>(s) + 1, held, named, &step});
   }

@@ -112,7 +112,15 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
     for (const calibration::CandidateResult* c : s.not_told_apart()) {
       alike.push_back(label_json(c->term));
     }
+    nlohmann::json judged_again = nullptr;
+    if (s.judged_again_after_step > 0) {
+      judged_again = {{"after_step", s.judged_again_after_step},
+                      {"held_out_gain", s.gain_beside_later},
+                      {"t", s.t_beside_later},
+                      {"dropped", s.dropped}};
+    }
     steps.push_back({{"kept", s.kept},
+                     {"judged_again", judged_again},
                      {"not_told_apart", alike},
                      {"critical_t", s.critical_t},
                      {"critical_p", s.critical_p},
@@ -196,14 +204,22 @@ std::string search_text(const calibration::ModelSearchResult& search,
         i + 1, core::effect_name(named->term.label()), named->term.describe(),
         named->held_out_gain, named->gain_per_range, named->t_statistic, named->p_value,
         s.kept ? ">" : "<=", s.critical_t, s.family_wise_p, s.kept ? "kept" : "not kept");
+    if (s.judged_again_after_step > 0) {
+      text += fmt::format(
+          "    judged again after step {}: beside the later terms, keeping it gains {:.1f} "
+          "nats, t {:.2f} {} {:.2f}: {}\n",
+          s.judged_again_after_step, s.gain_beside_later, s.t_beside_later,
+          s.dropped ? "<=" : ">", s.critical_t, s.dropped ? "dropped" : "held");
+    }
     const std::vector<const calibration::CandidateResult*> alike = s.not_told_apart();
     if (!alike.empty()) {
       text += fmt::format(
           "    not told apart from it on these data (its gain over each, run by run, p > {:g}):\n",
           calibration::kToldApartLevel);
       for (const calibration::CandidateResult* c : alike) {
-        text += fmt::format("      {} ({}): t {:.2f}, p {:.2g}\n", core::effect_name(c->term.label()),
-                            c->term.describe(), c->t_below_named, c->p_below_named);
+        text +=
+            fmt::format("      {} ({}): t {:.2f}, p {:.2g}\n", core::effect_name(c->term.label()),
+                        c->term.describe(), c->t_below_named, c->p_below_named);
       }
     }
     text += errors_text(s.errors);

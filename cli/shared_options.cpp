@@ -182,7 +182,9 @@ std::shared_ptr<SearchOptions> add_search_options(CLI::App& cmd) {
                  "most this probability")
       ->capture_default_str()
       ->check(between(1e-9, 0.5));
-  cmd.add_option("--max-steps", o->max_steps, "Terms added at most (forward selection)")
+  cmd.add_option("--max-steps", o->max_steps,
+                 "Steps of the forward selection at most (each adds the term it names when it "
+                 "passes)")
       ->capture_default_str()
       ->check(between(1, 10));
   return o;

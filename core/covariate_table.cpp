@@ -83,7 +83,9 @@ CovariateTable::CovariateTable(CovariateSeries series) : series_(std::move(serie
   const Eigen::Index n = series_.time_s.size();
   require_same_length(n, "time", series_.junction_c.size(), "junction temperature");
   require_same_length(n, "time", series_.time_since_power_on_s.size(), "time since power-on");
-  if (series_.ambient_c.size() > 0) require_same_length(n, "time", series_.ambient_c.size(), "ambient");
+  if (series_.ambient_c.size() > 0) {
+    require_same_length(n, "time", series_.ambient_c.size(), "ambient");
+  }
   require_finite(series_.time_s, "time");
   require_finite(series_.junction_c, "junction temperature");
   require_finite(series_.time_since_power_on_s, "time since power-on");
@@ -201,9 +203,9 @@ Term CovariateTable::make_term(Parameter parameter, Covariate covariate, Form fo
                          std::to_string(kMaxSmoothKnots));
     }
     term.knots.resize(smooth_knots);
+    const double quantile_span = kLastKnotQuantile - kFirstKnotQuantile;
     for (int i = 0; i < smooth_knots; ++i) {
-      term.knots[i] = quantile(sample, kFirstKnotQuantile + (kLastKnotQuantile - kFirstKnotQuantile) *
-                                                               i / (smooth_knots - 1));
+      term.knots[i] = quantile(sample, kFirstKnotQuantile + quantile_span * i / (smooth_knots - 1));
     }
     require_increasing(term.knots, term);
   } else if (form == Form::Bins) {
@@ -232,7 +234,8 @@ Eigen::VectorXi CovariateTable::bins(const Term& term) const {
   return out;
 }
 
-void term_design_row(const Term& term, double c, Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row) {
+void term_design_row(const Term& term, double c,
+                     Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> row) {
   switch (term.form) {
     case Form::Linear:
       row[0] = (std::clamp(c, term.covariate_low, term.covariate_high) - term.centre) / term.scale;

@@ -1,8 +1,10 @@
 // `tofcomp diagnose`'s table of a step's candidates (cli/search_format.hpp): each column starts
 // where its heading does, whatever the length of the effects' names, so that a long name (a
 // mode's offset on the time since power-on, 50 characters) never runs into the term beside it.
+// A kept term judged again after a later step is said to be held or dropped, with its figures.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -85,6 +87,53 @@ TEST(SearchText, CandidateColumnsStartWhereTheirHeadingsDo) {
   }
   // The long name is why the columns move: it must be among the rows.
   EXPECT_GT(core::effect_name(step.candidates[0].term.label()).size(), 44u);
+}
+
+TEST(SearchText, SaysHowAKeptTermFaredWhenJudgedAgain) {
+  calibration::SearchStep warm_up, state;
+  warm_up.candidates.push_back(candidate(core::Parameter::Bias, core::Covariate::TimeSincePowerOn,
+                                         core::Form::Decay, -1, 1e-2));
+  warm_up.kept = true;
+  warm_up.critical_t = 3.1;
+  warm_up.judged_again_after_step = 2;
+  warm_up.gain_beside_later = 12.5;
+  warm_up.t_beside_later = 0.75;
+  warm_up.dropped = true;
+  state.candidates.push_back(
+      candidate(core::Parameter::Bias, core::Covariate::JunctionLag, core::Form::Linear, -1, 2e-2));
+  state.kept = true;
+  calibration::ModelSearchResult search;
+  search.steps = {warm_up, state};
+  search.kept = {state.candidates.front().term};
+
+  const std::string text = search_text(search, calibration::ModelSearchOptions{});
+  const std::size_t step1 = text.find("step 1: named");
+  const std::size_t step2 = text.find("step 2: named");
+  const std::size_t dropped =
+      text.find("judged again after step 2: beside the later terms, keeping it gains 12.5 nats, "
+                "t 0.75 <= 3.10: dropped");
+  ASSERT_NE(dropped, std::string::npos) << text;
+  EXPECT_TRUE(step1 < dropped && dropped < step2) << text;  // under the step that kept it
+  EXPECT_EQ(text.find("judged again", dropped + 1), std::string::npos) << text;
+  EXPECT_NE(text.find("verdict: the model lacks another thermal state"), std::string::npos)
+      << text;
+
+  const nlohmann::json json = to_json(search, calibration::ModelSearchOptions{});
+  const nlohmann::json& first = json.at("steps").at(0).at("judged_again");
+  EXPECT_EQ(first.at("after_step"), 2);
+  EXPECT_DOUBLE_EQ(first.at("held_out_gain").get<double>(), 12.5);
+  EXPECT_DOUBLE_EQ(first.at("t").get<double>(), 0.75);
+  EXPECT_TRUE(first.at("dropped").get<bool>());
+  EXPECT_TRUE(json.at("steps").at(1).at("judged_again").is_null());
+  EXPECT_EQ(json.at("kept").size(), 1u);
+
+  // Judged again and still passing: said to be held.
+  search.steps[0].dropped = false;
+  search.steps[0].t_beside_later = 4.25;
+  search.kept.insert(search.kept.begin(), warm_up.candidates.front().term);
+  const std::string held = search_text(search, calibration::ModelSearchOptions{});
+  EXPECT_NE(held.find("keeping it gains 12.5 nats, t 4.25 > 3.10: held"), std::string::npos)
+      << held;
 }
 
 }  // namespace
