@@ -918,8 +918,9 @@ void ModelSearchRun::State::drop_redundant_terms() {
       step.judged_again_after_step = after_step;
       step.gain_beside_later = test.gain;
       step.t_beside_later = test.t;
-      const bool still_passes = test.gain > 0.0 && test.t > step.critical_t;
-      if (!still_passes && (!weakest || test.t < result.steps[earlier[*weakest]].t_beside_later)) {
+      step.p_beside_later = test.p;
+      const bool still_passes = test.gain > 0.0 && test.p <= options.alpha;
+      if (!still_passes && (!weakest || test.p > result.steps[earlier[*weakest]].p_beside_later)) {
         weakest = j;
       }
     }

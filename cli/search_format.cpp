@@ -117,6 +117,7 @@ nlohmann::json to_json(const calibration::ModelSearchResult& search,
       judged_again = {{"after_step", s.judged_again_after_step},
                       {"held_out_gain", s.gain_beside_later},
                       {"t", s.t_beside_later},
+                      {"p", s.p_beside_later},
                       {"dropped", s.dropped}};
     }
     steps.push_back({{"kept", s.kept},
@@ -207,9 +208,9 @@ std::string search_text(const calibration::ModelSearchResult& search,
     if (s.judged_again_after_step > 0) {
       text += fmt::format(
           "    judged again after step {}: beside the later terms, keeping it gains {:.1f} "
-          "nats, t {:.2f} {} {:.2f}: {}\n",
-          s.judged_again_after_step, s.gain_beside_later, s.t_beside_later,
-          s.dropped ? "<=" : ">", s.critical_t, s.dropped ? "dropped" : "held");
+          "nats, t {:.2f} (p {:.2g}) {} {:g}: {}\n",
+          s.judged_again_after_step, s.gain_beside_later, s.t_beside_later, s.p_beside_later,
+          s.dropped ? "above" : "within", options.alpha, s.dropped ? "dropped" : "held");
     }
     const std::vector<const calibration::CandidateResult*> alike = s.not_told_apart();
     if (!alike.empty()) {

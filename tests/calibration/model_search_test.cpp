@@ -350,9 +350,10 @@ TEST(ModelSearch, GivesADriftThatTurnsTheKnotsItNeeds) {
 }
 
 // What a search's backward elimination must satisfy on any data: a term judged again was kept
-// by its step and judged after a later step that kept one; it is dropped exactly when its figures
-// there fail its own step's level; a dropped effect is not named again; the kept terms are the
-// held steps' terms in their order. Returns the effects held.
+// by its step and judged after a later step that kept one; it is dropped exactly when its gain
+// there is not positive or its p above α; a dropped effect is not named again; the kept terms are
+// the held steps' terms in their order. Returns the effects held.
+constexpr double kAlpha = ModelSearchOptions{}.alpha;
 std::vector<core::EffectLabel> held_effects_checked(const ModelSearchResult& s) {
   std::vector<core::EffectLabel> held;
   for (std::size_t i = 0; i < s.steps.size(); ++i) {
@@ -371,7 +372,7 @@ std::vector<core::EffectLabel> held_effects_checked(const ModelSearchResult& s) 
     if (after <= s.steps.size()) {
       EXPECT_TRUE(s.steps[after - 1].kept);
     }
-    const bool passes = step.gain_beside_later > 0.0 && step.t_beside_later > step.critical_t;
+    const bool passes = step.gain_beside_later > 0.0 && step.p_beside_later <= kAlpha;
     EXPECT_EQ(step.dropped, !passes) << step.named()->term.describe() << ": t "
                                      << step.t_beside_later;
     if (!step.dropped) continue;

@@ -98,6 +98,7 @@ TEST(SearchText, SaysHowAKeptTermFaredWhenJudgedAgain) {
   warm_up.judged_again_after_step = 2;
   warm_up.gain_beside_later = 12.5;
   warm_up.t_beside_later = 0.75;
+  warm_up.p_beside_later = 0.23;
   warm_up.dropped = true;
   state.candidates.push_back(
       candidate(core::Parameter::Bias, core::Covariate::JunctionLag, core::Form::Linear, -1, 2e-2));
@@ -111,7 +112,7 @@ TEST(SearchText, SaysHowAKeptTermFaredWhenJudgedAgain) {
   const std::size_t step2 = text.find("step 2: named");
   const std::size_t dropped =
       text.find("judged again after step 2: beside the later terms, keeping it gains 12.5 nats, "
-                "t 0.75 <= 3.10: dropped");
+                "t 0.75 (p 0.23) above 0.05: dropped");
   ASSERT_NE(dropped, std::string::npos) << text;
   EXPECT_TRUE(step1 < dropped && dropped < step2) << text;  // under the step that kept it
   EXPECT_EQ(text.find("judged again", dropped + 1), std::string::npos) << text;
@@ -123,6 +124,7 @@ TEST(SearchText, SaysHowAKeptTermFaredWhenJudgedAgain) {
   EXPECT_EQ(first.at("after_step"), 2);
   EXPECT_DOUBLE_EQ(first.at("held_out_gain").get<double>(), 12.5);
   EXPECT_DOUBLE_EQ(first.at("t").get<double>(), 0.75);
+  EXPECT_DOUBLE_EQ(first.at("p").get<double>(), 0.23);
   EXPECT_TRUE(first.at("dropped").get<bool>());
   EXPECT_TRUE(json.at("steps").at(1).at("judged_again").is_null());
   EXPECT_EQ(json.at("kept").size(), 1u);
@@ -130,9 +132,10 @@ TEST(SearchText, SaysHowAKeptTermFaredWhenJudgedAgain) {
   // Judged again and still passing: said to be held.
   search.steps[0].dropped = false;
   search.steps[0].t_beside_later = 4.25;
+  search.steps[0].p_beside_later = 1.5e-5;
   search.kept.insert(search.kept.begin(), warm_up.candidates.front().term);
   const std::string held = search_text(search, calibration::ModelSearchOptions{});
-  EXPECT_NE(held.find("keeping it gains 12.5 nats, t 4.25 > 3.10: held"), std::string::npos)
+  EXPECT_NE(held.find("keeping it gains 12.5 nats, t 4.25 (p 1.5e-05) within 0.05: held"), std::string::npos)
       << held;
 }
 
