@@ -1,11 +1,14 @@
 #include "calibration/diagnosis.hpp"
 
 #include "calibration/compensation.hpp"
+#include "calibration/parallel_for.hpp"
+#include "core/covariate_table.hpp"
 #include "core/model_extension.hpp"
 
 namespace tofcomp::calibration {
 
-core::Diagnosis diagnose(const MeasuredData& data, const core::Calibration& calibration) {
+core::Diagnosis diagnose(const MeasuredData& data, const core::Calibration& calibration,
+                         int threads) {
   data.require_true_ranges();
   const Compensation compensation = compensate(data, calibration);
   core::DiagnosisInput input;
@@ -14,8 +17,12 @@ core::Diagnosis diagnose(const MeasuredData& data, const core::Calibration& cali
   input.junction_rate_c_per_s = core::local_rate(
       data.range_time_s, compensation.junction.junction_c, core::kHeatingRateHalfWindowS);
   input.time_since_power_on_s = data.time_since_power_on();
-  input.residual = data.range_mm - data.true_range_mm - compensation.bias_mm;
-  return core::diagnose_residuals(input, core::compensation_mixture(calibration).modes);
+  input.predicted_mm = data.true_range_mm + compensation.bias_mm;
+  input.residual = data.range_mm - input.predicted_mm;
+  core::DiagnosisOptions options;
+  options.resolution_mm = data.range_resolution_mm();
+  options.parallel = parallel_runner(threads);
+  return core::diagnose_residuals(input, core::compensation_mixture(calibration).modes, options);
 }
 
 }  // namespace tofcomp::calibration

@@ -59,6 +59,16 @@ double MeasuredData::last_power_on_at(double time_s) const {
   return since;
 }
 
+double MeasuredData::range_resolution_mm() const {
+  // A whole multiple to within what a decimal file's parsing leaves (ranges below 100 m).
+  constexpr double kLatticeTolerance = 1e-6;
+  for (Eigen::Index k = 0; k < range_mm.size(); ++k) {
+    const double cells = range_mm[k] / kRangeResolutionMm;
+    if (std::abs(cells - std::round(cells)) > kLatticeTolerance) return 0.0;
+  }
+  return kRangeResolutionMm;
+}
+
 Eigen::VectorXd MeasuredData::time_since_power_on() const {
   Eigen::VectorXd out(range_time_s.size());
   for (Eigen::Index k = 0; k < out.size(); ++k) {

@@ -45,6 +45,9 @@ struct MeasuredData {
   double last_power_on_at(double time_s) const;
   // Seconds since the last switch-on at each range (the warm-up covariate).
   Eigen::VectorXd time_since_power_on() const;
+  // kRangeResolutionMm when every range is a whole multiple of it, as the LMS 200 reports them;
+  // 0 when some are not (ranges a logger averaged or scaled), so that no rounding is assumed.
+  double range_resolution_mm() const;
   // The last logged ambient at or before time_s (the first one before it), or fallback.
   double ambient_at(double time_s, double fallback_c) const;
   // Throws core::InvalidInput unless every range has a true distance, naming the first line

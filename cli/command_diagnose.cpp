@@ -127,7 +127,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       const calibration::ModelSearchResult& search = base.search;
       if (!s->covariates_output.empty()) write_covariates(measured, base, s->covariates_output);
       progress.update(0.95, "the residual tests");
-      const core::Diagnosis tests = calibration::diagnose(measured, base.calibration);
+      const core::Diagnosis tests = calibration::diagnose(measured, base.calibration, s->threads);
       progress.done();
 
       const core::StructureChoice* structure = base.structure ? &*base.structure : nullptr;

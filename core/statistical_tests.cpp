@@ -94,7 +94,12 @@ TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
   const double sxx = dx.square().sum();
   const double syy = dy.square().sum();
   if (!(sxx > 0.0) || !(syy > 0.0)) return {0.0, 1.0, 0.0};
-  const double r = std::clamp((dx * dy).sum() / std::sqrt(sxx * syy), -1.0, 1.0);
+  return correlation_result((dx * dy).sum() / std::sqrt(sxx * syy), n);
+}
+
+TestResult correlation_result(double r, Eigen::Index n) {
+  if (n < 4) throw InvalidInput("a correlation test needs at least four pairs");
+  r = std::clamp(r, -1.0, 1.0);
   const double denominator = std::max(1.0 - r * r, 1e-300);
   const double z = r * std::sqrt(static_cast<double>(n - 2) / denominator);
   return {r, two_sided_normal_p(z), static_cast<double>(n - 2), std::abs(z)};

@@ -39,6 +39,8 @@ TestResult runs_test(const Eigen::Ref<const Eigen::VectorXi>& labels);
 // (approximately normal for the sample sizes here); statistic = r.
 TestResult correlation_test(const Eigen::Ref<const Eigen::VectorXd>& x,
                             const Eigen::Ref<const Eigen::VectorXd>& y);
+// The same test of a correlation r already computed from n pairs.
+TestResult correlation_result(double r, Eigen::Index n);
 
 // The most significant of several correlation tests of y, one per candidate x (the columns),
 // with Bonferroni's correction for having picked it: p = min(1, columns × p_best), z the

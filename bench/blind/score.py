@@ -14,6 +14,8 @@ For every DIR/data/<id>.csv that has a truth DIR/truth/<id>.json it runs
     search.steps[0].not_told_apart  (optional) candidates the data do not tell from the first named
     junction_recheck.chosen  (optional) which start a re-check of the junction kept, or null
     structure_recheck.chosen  (optional) "first" or "again": which structure a re-check kept, or null
+    findings  (optional) the residual tests, evidence beside the search: [{effect, significant,
+              textbook_p_value (optional)}], in the detector's ranking
 and prints how the detector did.  A non-zero exit, a timeout, output that is not JSON or a missing
 or malformed field is a failure of that run, listed with its stderr tail.  Exit status 0 once
 everything that could be scored was (the figures are the result), 2 on bad arguments.
@@ -44,6 +46,22 @@ RATIO_OK = 1.25
 NOTHING = "nothing"
 EXTRA_MODE = "extra_mode" + SEP + "none"
 CLEAN = "clean"
+# The residual tests (`findings`, evidence beside the search): the label each one looks for, by
+# its `effect`; serial dependence is a symptom of any effect (no label). A test is significant by
+# its `textbook_p_value` when that is below EVIDENCE_ALPHA / the number of tests (Bonferroni, as
+# the detector states its own level).
+EVIDENCE_LABELS = {
+    "mode persistence": "markov" + SEP + "none",
+    "temperature-dependent mode weights": "weights" + SEP + "junction_temperature",
+    "temperature-dependent spread": "spread" + SEP + "junction_temperature",
+    "outliers": "outliers" + SEP + "none",
+    "heating hysteresis": "bias" + SEP + "heating_rate",
+    "time drift": "bias" + SEP + "time",
+    "warm-up after power-on": "bias" + SEP + "time_since_power_on",
+    "one more lasing mode": EXTRA_MODE,
+    "serial dependence": None,
+}
+EVIDENCE_ALPHA = 0.05
 
 
 class ContractError(Exception):
@@ -87,7 +105,10 @@ def parse_output(stdout):
     if not isinstance(mae, dict):
         raise ContractError("missing field: search.mae_mm")
     out = {"kept": kept, "best": best, "modes": None, "alike": [], "recheck": None,
-           "structure_recheck": None}
+           "structure_recheck": None, "evidence": None}
+    findings = doc.get("findings")
+    if isinstance(findings, list) and findings:
+        out["evidence"] = parse_findings(findings)
     recheck = doc.get("junction_recheck")
     if isinstance(recheck, dict) and isinstance(recheck.get("chosen"), str):
         out["recheck"] = recheck["chosen"]
@@ -125,6 +146,24 @@ def parse_output(stdout):
                 raise ContractError("missing field: search.mae_mm.%s.%s" % (part, w))
             vals[w] = number(m[w], "search.mae_mm.%s.%s" % (part, w))
         out[part] = vals
+    return out
+
+
+def parse_findings(findings):
+    """The residual tests -> [{label, significant, textbook_significant}] in the detector's order
+    (label None for a test of no one effect; textbook_significant None without a textbook p)."""
+    level = EVIDENCE_ALPHA / len(findings)
+    out = []
+    for i, f in enumerate(findings):
+        if not isinstance(f, dict) or not isinstance(f.get("effect"), str):
+            raise ContractError("findings[%d] has no effect" % i)
+        if not isinstance(f.get("significant"), bool):
+            raise ContractError("findings[%d].significant is not true or false" % i)
+        textbook = f.get("textbook_p_value")
+        out.append({"label": EVIDENCE_LABELS.get(f["effect"], "?" + f["effect"]),
+                    "significant": f["significant"],
+                    "textbook_significant": (number(textbook, "findings[%d].textbook_p_value" % i)
+                                             < level if textbook is not None else None)})
     return out
 
 
@@ -294,7 +333,8 @@ def evaluate(truths, runs):
                         "mae_final": res["final"], "mae_base": res["base"],
                         "modes": res["modes"], "alike": res["alike"],
                         "recheck": res["recheck"],
-                        "structure_recheck": res["structure_recheck"]})
+                        "structure_recheck": res["structure_recheck"],
+                        "evidence": res["evidence"]})
         if rc is not None:
             row["counterpart_ok"] = rc["ok"]
             if not rc["ok"]:
@@ -306,6 +346,7 @@ def evaluate(truths, runs):
                             "counterpart_recheck": rc["result"]["recheck"],
                             "counterpart_structure_recheck": rc["result"]["structure_recheck"],
                             "counterpart_mae_final": rc["result"]["final"],
+                            "counterpart_evidence": rc["result"]["evidence"],
                             "counterpart_mae_base": rc["result"]["base"]})
         if r["ok"] and rc is not None and rc["ok"]:
             row["mae_ratio"] = {w: (row["mae_final"][w] / row["counterpart_mae_final"][w]
@@ -400,7 +441,10 @@ def evaluate(truths, runs):
                                "more": s["modes"] > s["counterpart_modes"],
                                "named": EXTRA_MODE in s.get("kept", [])})
 
+    evidence = evaluate_evidence(singles, cleans, cps)
+
     return {"sets": sets, "confusion": confusion, "per_kind": per_kind, "clean": clean,
+            "evidence": evidence,
             "counterparts": counterparts, "pairs": pair_sum, "strength_tertiles": tert,
             "structure_took_in": took_in,
             "junction_recheck": {
@@ -424,6 +468,67 @@ def evaluate(truths, runs):
             "failures": failures,
             "totals": {"sets": len(sets), "singles": len(singles), "clean": len(cleans),
                        "pairs": len(pairs), "runs_failed": len(failures)}}
+
+
+def evaluate_evidence(singles, cleans, counterparts):
+    """The residual tests, by the detector's reference and by the textbook's: on records without
+    an effect, how many raise any test; on single-effect sets, how often the test of the true
+    effect is significant and first among the significant. None when no run reported findings."""
+    def first(ev, key):
+        hits = [f["label"] for f in ev if f[key]]
+        return (hits[0] or "serial dependence") if hits else NOTHING
+
+    runs_clean = [s["evidence"] for s in cleans if s["ok"] and s.get("evidence")]
+    runs_clean += [s["counterpart_evidence"] for s in counterparts if s.get("counterpart_evidence")]
+    scored = [s for s in singles if s["ok"] and s.get("evidence")]
+    if not runs_clean and not scored:
+        return None
+    out = {"clean_runs": len(runs_clean), "per_kind": {}, "confusion": {}}
+    for key in ("significant", "textbook_significant"):
+        usable = [ev for ev in runs_clean if all(f[key] is not None for f in ev)]
+        out["clean_any_" + key] = [sum(any(f[key] for f in ev) for ev in usable), len(usable)]
+    for s in scored:
+        t = s["true"][0]
+        k = out["per_kind"].setdefault(t, {"n": 0, "has_test": False, "significant": 0,
+                                           "first": 0, "textbook_significant": 0,
+                                           "textbook_first": 0})
+        k["n"] += 1
+        own = [f for f in s["evidence"] if f["label"] == t]
+        k["has_test"] = bool(own)
+        for key in ("significant", "textbook_significant"):
+            prefix = "" if key == "significant" else "textbook_"
+            k[prefix + "significant"] += bool(own and own[0][key])
+            k[prefix + "first"] += first(s["evidence"], key) == t
+        row = out["confusion"].setdefault(t, {})
+        f1 = first(s["evidence"], "significant")
+        row[f1] = row.get(f1, 0) + 1
+    out["per_kind"] = {l: out["per_kind"][l] for l in ordered(list(out["per_kind"]))}
+    return out
+
+
+def render_evidence(ev):
+    out = ["\nEvidence: the residual tests (findings), judged by the detector's reference and by "
+           "their textbook laws"]
+    for key, name in (("significant", "the detector's"), ("textbook_significant", "textbook")):
+        hit, n = ev["clean_any_" + key]
+        out.append("  records without an effect (clean sets and counterparts) raising any test, "
+                   "%s: %d/%d" % (name, hit, n))
+    tab = []
+    for l, k in ev["per_kind"].items():
+        if not k["has_test"]:
+            tab.append([l, k["n"], "no test", "", "", ""])
+            continue
+        tab.append([l, k["n"], "%d/%d" % (k["significant"], k["n"]), "%d/%d" % (k["first"], k["n"]),
+                    "%d/%d" % (k["textbook_significant"], k["n"]),
+                    "%d/%d" % (k["textbook_first"], k["n"])])
+    out.append(fmt_table(tab, ["kind", "n", "own test significant", "first significant",
+                               "textbook: significant", "textbook: first"]))
+    conf = ev["confusion"]
+    cols = sorted({c for r in conf.values() for c in r}, key=str)
+    out.append("  first significant test (detector's reference), rows the true label:")
+    out.append(fmt_table([[r] + [conf[r].get(c, "") or "." for c in cols] for r in ordered(list(conf))],
+                         ["true \\ first"] + [ABBR.get(c, c) for c in cols]))
+    return out
 
 
 def render(rep):
@@ -525,6 +630,9 @@ def render(rep):
     if sr and sr["runs"]:
         out.append("Structure re-checked after a kept term on the bias on %d of %d runs; chosen "
                    "again on %d" % (sr["runs"], sr["scored_runs"], sr["chosen_again"]))
+
+    if rep.get("evidence"):
+        out.extend(render_evidence(rep["evidence"]))
 
     out.append("\nFailures: %d" % len(rep["failures"]))
     for f in rep["failures"]:

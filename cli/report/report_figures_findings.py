@@ -48,6 +48,13 @@ class Residuals:
         self.rate_half_window_s = computed["heating_rate_half_window_s"]
         self.n = self.residual.size
         self.step_mm = resolution_mm(samples["range_mm"])  # the scanner's range step
+        # The outliers' test: each mode's robust scale, the lasing modes, the expected count
+        # beyond (its finding's mode_scale_mm, lasing_modes and null_mean); set by
+        # draw_finding_figures.
+        self.outlier_scale = None
+        self.lasing_modes = []
+        self.outlier_expected = None
+        self.outlier_resolution_mm = 0.0
 
 
 def autocorrelation(x, lags):
@@ -203,38 +210,46 @@ def temperature_dependent_spread(r, directory, name):
 
 
 def outliers(r, directory, name):
-    nearest = r.mu[np.argmin(np.abs(r.residual[:, None] - r.mu), axis=1)]
-    deviation = r.residual - nearest
-    scale = max(1.4826 * np.median(np.abs(deviation)), 1e-12)
-    x = deviation / scale
-    span = float(np.max(np.abs(x)))
-    width = max(0.25, 2.0 * span / 300.0)
-    edges = np.arange(-span - width, span + 2 * width, width)
-    beyond = int(np.sum(np.abs(x) > TAIL_Z))
+    """The test's own bound (core/residual_diagnosis.cpp, tail_count): each range's distance from
+    the nearest lasing mode, less half the rounding, in that mode's robust scale (the finding's
+    mode_scale_mm, lasing_modes and resolution_mm); beyond TAIL_Z from every lasing mode is an
+    outlier."""
+    if r.outlier_scale is None or not r.lasing_modes:
+        return None
+    lasing = np.array(r.lasing_modes, dtype=int)
+    mu, scale = r.mu[lasing], r.outlier_scale[lasing]
+    x = np.min((np.abs(r.residual[:, None] - mu) - 0.5 * r.outlier_resolution_mm) / scale, axis=1)
+    x = np.maximum(x, 0.0)
+    span = float(np.max(x))
+    width = max(0.25, span / 300.0)
+    edges = np.arange(0.0, span + 2 * width, width)
+    beyond = int(np.sum(x > TAIL_Z))
     fig, ax = plt.subplots(figsize=(6.5, 4))
     ax.hist(x, edges, color="0.6", label="ranges")
-    grid = np.linspace(edges[0], edges[-1], 800)
-    ax.plot(grid, r.n * width * np.exp(-0.5 * grid ** 2) / math.sqrt(2 * math.pi), color="k",
-            linewidth=1.2, label="standard normal, as many ranges")
-    for sign in (-1, 1):
-        ax.axvline(sign * TAIL_Z, color="#d1495b", linestyle="--", linewidth=1.2,
-                   label=f"±{TAIL_Z:g} robust σ: {beyond} ranges beyond" if sign > 0 else None)
+    ax.axvline(TAIL_Z, color="#d1495b", linestyle="--", linewidth=1.2,
+               label=f"{TAIL_Z:g} robust σ: {beyond} ranges beyond")
     counts, _ = np.histogram(x, edges)
     ax.set_yscale("log")
     ax.set_ylim(0.5, 3.0 * max(counts.max(), 1))
-    ax.set_xlabel(f"(y − d − Hθ̂ − nearest μ̂) / robust σ  (robust σ = {scale:.2f} mm)")
+    ax.set_xlabel("distance from the nearest lasing mode, less half the rounding, "
+                  "in its robust σ")
     ax.set_ylabel(f"ranges per {width:g} σ bin (log)")
-    ax.set_title("Residuals from the nearest mode offset")
+    ax.set_title("Residuals from the nearest lasing mode")
     legend_right(ax)
-    expected = r.n * math.erfc(TAIL_Z / math.sqrt(2.0))
-    return Figure("excess of |e − nearest μ| beyond 8 robust σ over the Gaussian tail",
+    scales = ", ".join(f"{_mode_label(int(i))} {s:.2f} mm" for i, s in zip(lasing, scale))
+    expected = r.outlier_expected
+    expected_text = f"{expected:.1g}" if expected is not None else "almost none"
+    return Figure(f"ranges beyond {TAIL_Z:g} robust σ of every lasing mode",
                   save(fig, directory, name),
-                  f"Each residual y − d − Hθ̂ less the nearest trained mode offset, in units of "
-                  f"1.4826 × the median of their absolute values (a scale outliers cannot "
-                  f"inflate), on a log count axis against the standard normal. Look for: counts "
-                  f"beyond the dashed ±{TAIL_Z:g} σ bounds, where Gaussian modes would put "
-                  f"{expected:.1g} of these {r.n} ranges; here {beyond} lie beyond. "
-                  f"{ON_THE_RECORD}")
+                  f"Each residual y − d − Hθ̂'s distance from the nearest lasing mode's offset, "
+                  f"less half the rounding (a rounded range beyond the bound was beyond it "
+                  f"before the rounding), in that mode's robust σ: 1.4826 × the median "
+                  f"|y − d − Hθ̂ − μ̂| of its ranges, each weighted by its responsibility (σ̂ for "
+                  f"Gaussian modes; a mode the EM widened to hold outliers keeps its core's). "
+                  f"The lasing modes are those no wider than the LMS 200's statistical error of "
+                  f"a range ({scales}). Look for: counts beyond the dashed {TAIL_Z:g} σ bound, "
+                  f"where Gaussian modes would put {expected_text} of these {r.n} ranges; here "
+                  f"{beyond} lie beyond. {ON_THE_RECORD}")
 
 
 def _draw_bin_means(ax, r, x, edges, least):
@@ -440,6 +455,13 @@ def draw_finding_figures(data, directory, progress):
     modes = data.context.get("diagnosis_calibration", {}).get("modes", [])
     residuals = (Residuals(data.diagnosis_samples, modes, data.context["diagnosis_samples"])
                  if modes else None)
+    for finding in findings:
+        if residuals is not None and finding.get("effect") == "outliers":
+            scale = finding.get("mode_scale_mm")
+            residuals.outlier_scale = np.array(scale, dtype=float) if scale else None
+            residuals.lasing_modes = finding.get("lasing_modes") or []
+            residuals.outlier_expected = finding.get("null_mean")
+            residuals.outlier_resolution_mm = float(finding.get("resolution_mm") or 0.0)
     drawn = {}
     for i, finding in enumerate(findings):
         effect = finding.get("effect")

@@ -23,7 +23,18 @@ def _finding_numbers(f):
     verdict = ("significant at 5 % family-wise" if significant else "not significant"
                if significant is not None else "significance not given")
     return (f"{f.get('test', '–')} ({f.get('covariate', '–')}): {name} "
-            f"{statistic(f.get('statistic'))}, p-value {p_value(f.get('p_value'))}, {verdict}.")
+            f"{statistic(f.get('statistic'))} ({_under_the_model(f)} under the trained model), "
+            f"p-value {p_value(f.get('p_value'))} against {f.get('reference', '–')} (its "
+            f"textbook law: {p_value(f.get('textbook_p_value'))}), {verdict}.")
+
+
+def _under_the_model(f):
+    """The statistic's mean ± deviation over the trained model's draws, an expected count, or
+    '–' (the finding's null_mean and null_std)."""
+    mean, std = f.get("null_mean"), f.get("null_std")
+    if mean is None:
+        return "–"
+    return f"{statistic(mean)} ± {statistic(std)}" if std is not None else statistic(mean)
 
 
 def _search_words(search, f):
@@ -45,13 +56,18 @@ def evidence_section(diagnosis, finding_figures):
         return "\n".join(parts)
     parts.append("<p>Each test looks in the residuals of the trained model (Eq. 8 without any "
                  "of the search's terms) for one effect, significant at 5 % family-wise "
-                 "(Bonferroni over the tests), most significant first. They are evidence, not "
-                 "the verdict: on data with an effect, several tests fire, and the smallest "
-                 "p-value is not the best explanation; the search above decides. Each figure "
-                 "draws the data and the trained model, never a fitted effect.</p>")
+                 "(Bonferroni over the tests), most significant first. Each statistic is judged "
+                 "against draws of the trained model itself, the ranges rounded as the device "
+                 "rounds them (the column 'under the model' gives the draws' mean and "
+                 "deviation): the rounding alone moves these statistics far from their textbook "
+                 "laws on data that hold the model. They are evidence, not the verdict: on data "
+                 "with an effect, several tests fire, and the smallest p-value is not the best "
+                 "explanation; the search above decides. Each figure draws the data and the "
+                 "trained model, never a fitted effect.</p>")
     head = "".join(f'<th class="text">{h}</th>' for h in ("effect", "test", "against")) + "".join(
-        f"<th>{h}</th>" for h in ("statistic", "p-value", "z", "significant")) + (
-        '<th class="text">the search</th>')
+        f"<th>{h}</th>" for h in ("statistic", "under the model", "p-value", "z",
+                                  "significant")) + '<th class="text">the search</th>'
+
     search = diagnosis.get("search") or {}
     rows = [f'<table id="findings"><tr>{head}</tr>']
     for f in findings:
@@ -60,7 +76,8 @@ def evidence_section(diagnosis, finding_figures):
         rows.append(row([
             td(f.get("effect", "–"), "text"), td(f.get("test", "–"), "text"),
             td(f.get("covariate", "–"), "text"), td(statistic(f.get("statistic"))),
-            td(p_value(f.get("p_value"))), td(number(f.get("z"), ".2f")),
+            td(_under_the_model(f)), td(p_value(f.get("p_value"))),
+            td(number(f.get("z"), ".2f")),
             td("yes" if significant else ("no" if significant is not None else "–")),
             td(search_verdict(search, effect) if effect else "–", "text"),
         ], "significant" if significant else None))

@@ -264,10 +264,12 @@ for finding, shown in zip(findings, figures_of_findings):
            f"{finding['effect']}: {source} is not its figure")
     expect(caption.startswith(f"Evidence: {finding['effect']}."),
            f"{finding['effect']}: not captioned as evidence")
-    numbers = (f" {format(finding['statistic'], '.4g')}, "
-               f"p-value {format(finding['p_value'], '.3g')}, "
+    numbers = (f" {format(finding['statistic'], '.4g')} (",
+               f"p-value {format(finding['p_value'], '.3g')} against {finding['reference']} (its "
+               f"textbook law: {format(finding['textbook_p_value'], '.3g')}), "
                + ("significant" if finding["significant"] else "not significant"))
-    expect(numbers in caption, f"{finding['effect']}: '{numbers}' not in its figure's caption")
+    for part in numbers:
+        expect(part in caption, f"{finding['effect']}: '{part}' not in its figure's caption")
     effect = finding["search_effect"]
     if effect in [k["effect"] for k in kept]:
         expect(f"The search kept {effect}" in caption, f"{finding['effect']}: the search's verdict")
