@@ -112,7 +112,7 @@ std::string diagnosis_text(const core::Diagnosis& d) {
   }
   text += "p-values against " + references(d) +
           " (the ranges' rounding moves the statistics from their textbook laws even where the "
-          "model holds: docs/closing-the-loop.md, section 4)\n";
+          "model holds: docs/closing-the-loop.md, section 4.1)\n";
   text += any_significant(d)
               ? "* significant at 5 % family-wise (Bonferroni) on the whole record; evidence, "
                 "not the verdict: the model search above names and keeps\n"

@@ -26,7 +26,8 @@
 // on the foreign data sets (../shared/data/foreign), which hold Eq. 8 and nothing more, the
 // textbook laws put the weights' χ² at p 1e-65 and the Ljung–Box at 1e-132. So the statistics are
 // judged against draws of the trained model itself: each draw a mode by its weight and its
-// Gaussian at every range, the range rounded as the device rounds it, read by the same tests
+// Gaussian at every range (its variance less the rounding's h²/12, which a fit to rounded values
+// holds: Sheppard's correction), the range rounded as the device rounds it, read by the same tests
 // (the plug-in parametric bootstrap); a statistic's law is the normal (a correlation, the runs'
 // z) or the scaled χ² (the weights' χ², Ljung–Box's Q) with the draws' mean and variance.
 // The draws keep the trained parameters (they are not refitted), which makes the tests a little
