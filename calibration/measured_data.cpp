@@ -59,14 +59,38 @@ double MeasuredData::last_power_on_at(double time_s) const {
   return since;
 }
 
-double MeasuredData::range_resolution_mm() const {
-  // A whole multiple to within what a decimal file's parsing leaves (ranges below 100 m).
+namespace {
+
+// Every range a whole multiple of `step` mm, to within what a decimal file's parsing leaves
+// (ranges below 100 m).
+bool on_lattice(const Eigen::VectorXd& range_mm, double step) {
   constexpr double kLatticeTolerance = 1e-6;
   for (Eigen::Index k = 0; k < range_mm.size(); ++k) {
-    const double cells = range_mm[k] / kRangeResolutionMm;
-    if (std::abs(cells - std::round(cells)) > kLatticeTolerance) return 0.0;
+    const double cells = range_mm[k] / step;
+    if (std::abs(cells - std::round(cells)) > kLatticeTolerance) return false;
   }
-  return kRangeResolutionMm;
+  return true;
+}
+
+constexpr Eigen::Index kMinRangesForUnits = 20;
+
+}  // namespace
+
+double MeasuredData::range_resolution_mm() const {
+  return on_lattice(range_mm, kRangeResolutionMm) ? kRangeResolutionMm : 0.0;
+}
+
+void MeasuredData::require_millimetre_ranges() const {
+  if (range_mm.size() < kMinRangesForUnits || !on_lattice(range_mm, kCentimetreRangeStepMm)) {
+    return;
+  }
+  std::ostringstream msg;
+  msg << source << ": all " << range_mm.size() << " ranges of beam " << beam
+      << " are whole multiples of " << kCentimetreRangeStepMm
+      << " mm, as the LMS 200 reports them in its cm units: lasing modes a few millimetres apart "
+         "cannot be told apart at that step, and the calibration fits ranges to the millimetre. "
+         "Record in mm units (tofcompd: link.units: mm; the LMS 200's units 0x01)";
+  throw core::InvalidInput(msg.str());
 }
 
 Eigen::VectorXd MeasuredData::time_since_power_on() const {

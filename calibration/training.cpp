@@ -172,6 +172,7 @@ JunctionDynamicsFit complete_junction(const MeasuredData& data, const TrainSetti
 Training train_calibration(const MeasuredData& data, const TrainSettings& settings,
                            const MeasuredData* held_out, const TrainingProgress& progress) {
   data.require_true_ranges();
+  data.require_millimetre_ranges();
   Training t;
   report(progress, 0.0, "thermal fit");
   t.thermal = fit_thermal(data, held_out, settings.thermal);
