@@ -420,7 +420,10 @@ WindowErrors window_errors_of(const SearchData& data, const std::array<FoldModel
 std::vector<HeldOutError> compare_held_out(const WindowErrors& before, const WindowErrors& after,
                                            const core::MixtureParameters& after_modes,
                                            const Folds& folds, const ModelSearchOptions& options) {
-  const double range_information = core::range_fisher_information(after_modes, options.resolution);
+  // The fitted modes hold the rounding's variance: the bound takes the modes before it
+  // (core::modes_before_rounding, as evaluate_windows does).
+  const double range_information = core::range_fisher_information(
+      core::modes_before_rounding(after_modes, options.resolution), options.resolution);
   const std::vector<Eigen::Index> windows = compared_windows(folds, options);
   const auto mean = [](const std::vector<double>& v) {
     double s = 0.0;

@@ -19,7 +19,9 @@
 
 namespace tofcomp::core {
 
-// I averaged over the rounding phase, in 1/mm². Throws InvalidInput on an invalid mixture or a
+// I averaged over the rounding phase, in 1/mm². `modes` are the continuous modes before the
+// rounding: a mixture trained on rounded ranges holds the rounding's variance, which
+// core::modes_before_rounding takes out. Throws InvalidInput on an invalid mixture or a
 // resolution that is not positive and finite.
 double range_fisher_information(const MixtureParameters& modes, double resolution_mm);
 

@@ -1,5 +1,6 @@
 #include "core/gaussian_mixture.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -211,6 +212,15 @@ double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,
                               const MixtureParameters& mixture) {
   Eigen::MatrixXd scratch;
   return mixture_e_step(residual, mixture, scratch);
+}
+
+MixtureParameters modes_before_rounding(MixtureParameters fitted, double resolution) {
+  const double rounding = resolution * resolution / 12.0;
+  for (Eigen::Index i = 0; i < fitted.variance.size(); ++i) {
+    fitted.variance[i] =
+        std::max(fitted.variance[i] - rounding, kSheppardKeptShare * fitted.variance[i]);
+  }
+  return fitted;
 }
 
 }  // namespace tofcomp::core

@@ -54,6 +54,16 @@ Eigen::ArrayXd rounded_normal_log_probabilities(const Eigen::Ref<const Eigen::Ar
                                                 const Eigen::Ref<const Eigen::ArrayXd>& variance,
                                                 double resolution);
 
+// Sheppard's correction: modes fitted by EM to values rounded to a resolution h, as if they were
+// continuous, hold the rounding's own variance h²/12 besides their spread (a mode of σ 0.85 mm
+// fits at σ 0.90 mm on whole millimetres). The continuous modes whose rounded values the fit
+// describes have σ_i² − h²/12; a mode at training's floor of h²/12 keeps a tenth of its
+// variance. Whatever rounds the modes again (the probability of a rounded value, draws rounded as
+// the device rounds, the Cramér–Rao bound of rounded ranges) takes these, or counts the rounding
+// twice. h = 0: the modes as they are.
+inline constexpr double kSheppardKeptShare = 0.1;
+MixtureParameters modes_before_rounding(MixtureParameters fitted, double resolution);
+
 // Σ_k log Σ_i π_i N(e_k − μ_i, σ_i²), without keeping the responsibilities.
 double mixture_log_likelihood(const Eigen::Ref<const Eigen::VectorXd>& residual,
                               const MixtureParameters& mixture);

@@ -38,22 +38,6 @@ Finding make(EffectKind kind, std::string test, std::string covariate, TestResul
   return f;
 }
 
-// Sheppard's correction: modes fitted to rounded values as if they were continuous hold the
-// rounding's own variance h²/12 besides their spread (a mode of σ 0.85 mm fits at σ 0.90 mm on
-// whole millimetres), so the continuous modes whose rounded values the fit describes have σ² −
-// h²/12; a mode at training's floor of h²/12 keeps a tenth of its variance. Draws that rounded
-// the fitted modes would be wider than the data by that variance, and the probability of a
-// rounded value under the fitted modes would count it twice.
-constexpr double kSheppardKeptShare = 0.1;
-
-MixtureParameters before_rounding(MixtureParameters m, double resolution_mm) {
-  const double rounding = resolution_mm * resolution_mm / 12.0;
-  for (Eigen::Index i = 0; i < m.variance.size(); ++i) {
-    m.variance[i] = std::max(m.variance[i] - rounding, kSheppardKeptShare * m.variance[i]);
-  }
-  return m;
-}
-
 // One draw of the residual under the trained model: at each range a mode by its weight and a
 // value from its Gaussian, the range rounded to the resolution as the device rounds it (the draw
 // of y is round(d + H θ̂ + w), its residual that less d + H θ̂).
@@ -310,7 +294,7 @@ TestResult extra_mode_test(const Eigen::VectorXd& residual, const MixtureParamet
     if (!alternative || !null) return -std::numeric_limits<double>::infinity();
     if (resolution_mm > 0.0) {
       const auto log_probability = [&](const MixtureParameters& fitted) {
-        return rounded_mixture_log_probabilities(test_on, before_rounding(fitted, resolution_mm),
+        return rounded_mixture_log_probabilities(test_on, modes_before_rounding(fitted, resolution_mm),
                                                  resolution_mm)
             .sum();
       };
@@ -439,7 +423,7 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
   // The modes are drawn before the rounding (Sheppard's correction), then rounded.
   const int draws = options.null_draws;
   const MixtureParameters drawn_modes =
-      options.resolution_mm > 0.0 ? before_rounding(mixture, options.resolution_mm) : mixture;
+      options.resolution_mm > 0.0 ? modes_before_rounding(mixture, options.resolution_mm) : mixture;
   std::vector<ResidualStatistics> drawn(static_cast<std::size_t>(draws));
   const auto one_draw = [&](int b) {
     drawn[static_cast<std::size_t>(b)] = design.statistics(draw_residual(

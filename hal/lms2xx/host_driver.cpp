@@ -1,5 +1,6 @@
 #include "hal/lms2xx/host_driver.hpp"
 
+#include <poll.h>
 #include <termios.h>
 
 #include <algorithm>
@@ -152,9 +153,24 @@ void Lms2xxDriver::lose_link() {
   watch_timer_.cancel();
 }
 
+// Whether the open port's line has hung up, asked of the port itself (poll's POLLHUP), not of
+// the reader: a hang-up in the instant before the driver closes the port for another reason (a
+// bring-up timing out just then) leaves the reader's failed read queued, and a reader replaced
+// by the close never reports it.
+bool Lms2xxDriver::port_hung_up() {
+  pollfd fd{port_.native_handle(), POLLIN, 0};
+  return ::poll(&fd, 1, 0) > 0 && (fd.revents & (POLLHUP | POLLERR)) != 0;
+}
+
 void Lms2xxDriver::close_port() {
   ++reader_generation_;
   boost::system::error_code ignored;
+  // A hang-up the reader had not been told of when the port closes is a link loss all the same
+  // (once per port, as lose_link counts it).
+  if (port_.is_open() && !link_lost_ && port_hung_up()) {
+    ++counters_.link_losses;
+    link_lost_ = true;
+  }
   if (port_.is_open()) {
     port_.cancel(ignored);
     port_.close(ignored);

@@ -131,6 +131,7 @@ class Lms2xxDriver {
   void open_port();
   void close_port();
   void lose_link();
+  bool port_hung_up();
   void set_port_baud(unsigned baud);
   void set_state(LinkState state, const std::string& why);
   void dispatch(const DecoderEvent& event, std::chrono::steady_clock::time_point when,
