@@ -117,15 +117,28 @@ TestResult against_scaled_chi_square(TestResult observed, const Moments& m) {
   return observed;
 }
 
-// The draws' values of one statistic, where a draw had it.
-template <typename Get>
-std::vector<double> values_of(const std::vector<ResidualStatistics>& draws, Get get) {
+// The draws' values of one statistic.
+std::vector<double> values_of(const std::vector<ResidualStatistics>& draws,
+                              TestResult ResidualStatistics::*statistic) {
+  std::vector<double> out;
+  for (const auto& d : draws) out.push_back((d.*statistic).statistic);
+  return out;
+}
+
+// The same of a statistic some draws may lack (the runs test without two ranges of each label).
+std::vector<double> values_of(const std::vector<ResidualStatistics>& draws,
+                              std::optional<TestResult> ResidualStatistics::*statistic) {
   std::vector<double> out;
   for (const auto& d : draws) {
-    if (const std::optional<double> v = get(d)) out.push_back(*v);
+    if (d.*statistic) out.push_back((d.*statistic)->statistic);
   }
   return out;
 }
+
+// How the draws' moments judge a statistic: a signed one by the normal law (two-sided), one
+// whose small values are the effect likewise with z turned (the runs' z), a χ²-like one by the
+// scaled χ².
+enum class DrawnLaw { Normal, NormalFewerIsPositive, ScaledChiSquare };
 
 // The draws' reference, in the words the report prints.
 std::string draws_reference(int draws, double resolution_mm) {
@@ -322,9 +335,9 @@ Finding warm_up_finding(const ResidualStatistics& observed,
   std::vector<Moments> per_tau;
   bool by_draw = draws > 0;
   for (std::size_t c = 0; c < observed.warm_up.size() && by_draw; ++c) {
-    per_tau.push_back(moments(values_of(drawn, [c](const ResidualStatistics& s) {
-      return std::optional<double>(s.warm_up[c].statistic);
-    })));
+    std::vector<double> values;
+    for (const auto& s : drawn) values.push_back(s.warm_up[c].statistic);
+    per_tau.push_back(moments(values));
     by_draw = judged_by_draws(per_tau.back(), draws);
   }
   // The best τ by |z|, its z and the grid's Bonferroni p (two-sided: p = 2 Q(z); corrected,
@@ -438,16 +451,19 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
 
   // The finding of a statistic judged by its draws where they can, else by its textbook law.
   const auto judged = [&](EffectKind kind, const std::string& test, const std::string& covariate,
-                          const TestResult& textbook, const char* law,
-                          const std::vector<double>& values, bool chi_square,
-                          bool fewer_is_positive = false) {
+                          const TestResult& textbook, const char* textbook_law,
+                          const std::vector<double>& values, DrawnLaw law) {
     const Moments m = moments(values);
+    const bool chi_square = law == DrawnLaw::ScaledChiSquare;
     if (!judged_by_draws(m, draws) || (chi_square && !(m.mean > 0.0))) {
-      return make(kind, test, covariate, textbook, law);
+      Finding f = make(kind, test, covariate, textbook, textbook_law);
+      if (law == DrawnLaw::NormalFewerIsPositive) f.result.z = -f.result.statistic;
+      return f;
     }
     Finding f = make(kind, test, covariate,
                      chi_square ? against_scaled_chi_square(textbook, m)
-                                : against_normal(textbook, m, fewer_is_positive),
+                                : against_normal(textbook, m,
+                                                 law == DrawnLaw::NormalFewerIsPositive),
                      by_draws);
     f.textbook_p_value = textbook.p_value;
     f.null_mean = m.mean;
@@ -456,33 +472,21 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
   };
 
   if (observed.runs) {
-    Finding f = judged(EffectKind::ModePersistence, "runs test", "order of the modes in time",
-                       *observed.runs, "the runs' normal law",
-                       values_of(drawn, [](const ResidualStatistics& s) {
-                         return s.runs ? std::optional<double>(s.runs->statistic) : std::nullopt;
-                       }),
-                       false, true);
-    if (std::isnan(f.null_std)) f.result.z = -f.result.statistic;  // textbook: fewer runs
-    d.findings.push_back(f);
+    d.findings.push_back(judged(EffectKind::ModePersistence, "runs test",
+                                "order of the modes in time", *observed.runs,
+                                "the runs' normal law", values_of(drawn, &ResidualStatistics::runs),
+                                DrawnLaw::NormalFewerIsPositive));
   }
   if (observed.weights) {
-    d.findings.push_back(judged(
-        EffectKind::TemperatureDependentWeights, "chi-square independence",
-        "junction temperature quartile", *observed.weights, "chi-square",
-        values_of(drawn,
-                  [](const ResidualStatistics& s) {
-                    return s.weights ? std::optional<double>(s.weights->statistic) : std::nullopt;
-                  }),
-        true));
+    d.findings.push_back(judged(EffectKind::TemperatureDependentWeights, "chi-square independence",
+                                "junction temperature quartile", *observed.weights, "chi-square",
+                                values_of(drawn, &ResidualStatistics::weights),
+                                DrawnLaw::ScaledChiSquare));
   }
   // Rank correlation, so that a few large residuals do not pass for a change of spread.
-  d.findings.push_back(judged(
-      EffectKind::TemperatureDependentSpread, "Spearman correlation",
-      "junction temperature vs |z|", observed.spread, "normal",
-      values_of(drawn, [](const ResidualStatistics& s) {
-        return std::optional<double>(s.spread.statistic);
-      }),
-      false));
+  d.findings.push_back(judged(EffectKind::TemperatureDependentSpread, "Spearman correlation",
+                              "junction temperature vs |z|", observed.spread, "normal",
+                              values_of(drawn, &ResidualStatistics::spread), DrawnLaw::Normal));
 
   const TailCount tails = tail_count(in.residual, mixture, options.tail_z, options.resolution_mm,
                                      options.max_lasing_spread_mm);
@@ -498,26 +502,20 @@ Diagnosis diagnose_residuals(const DiagnosisInput& in, const MixtureParameters& 
   d.resolution_mm = options.resolution_mm;
 
   d.findings.push_back(make(EffectKind::ExtraMode, "split likelihood ratio",
-                            "M + 1 modes against M", extra_mode_test(in.residual, mixture, options.resolution_mm),
+                            "M + 1 modes against M",
+                            extra_mode_test(in.residual, mixture, options.resolution_mm),
                             "universal inference"));
   d.findings.push_back(judged(EffectKind::HeatingHysteresis, "correlation",
                               "junction heating rate", observed.heating, "normal",
-                              values_of(drawn, [](const ResidualStatistics& s) {
-                                return std::optional<double>(s.heating.statistic);
-                              }),
-                              false));
+                              values_of(drawn, &ResidualStatistics::heating), DrawnLaw::Normal));
   d.findings.push_back(judged(EffectKind::TimeDrift, "correlation", "time", observed.drift,
-                              "normal", values_of(drawn, [](const ResidualStatistics& s) {
-                                return std::optional<double>(s.drift.statistic);
-                              }),
-                              false));
+                              "normal", values_of(drawn, &ResidualStatistics::drift),
+                              DrawnLaw::Normal));
   d.findings.push_back(warm_up_finding(observed, drawn, draws, by_draws));
   d.findings.push_back(judged(EffectKind::SerialDependence, "Ljung-Box",
                               ljung_box_label(design.ljung_box_lags()), observed.ljung_box,
-                              "chi-square", values_of(drawn, [](const ResidualStatistics& s) {
-                                return std::optional<double>(s.ljung_box.statistic);
-                              }),
-                              true));
+                              "chi-square", values_of(drawn, &ResidualStatistics::ljung_box),
+                              DrawnLaw::ScaledChiSquare));
 
   const double level = options.alpha / static_cast<double>(d.findings.size());
   for (auto& f : d.findings) {
