@@ -32,9 +32,15 @@ std::string extend_by_search(const MeasuredData& trained_on, const TrainSettings
   out.training = std::move(trained.training);
   ModelSearchResult search = std::move(trained.search);
   std::string recheck;
-  if (trained.junction_recheck && trained.junction_recheck->case_log_chosen) {
-    recheck = " (from the case log's junction, re-checked after the search: it predicts held-out "
-              "ranges better than the ranges')";
+  if (trained.junction_recheck && trained.junction_recheck->error.empty()) {
+    const JunctionRecheck& j = *trained.junction_recheck;
+    if (j.case_log_chosen && j.first_from_ranges) {
+      recheck = " (from the case log's junction, re-checked after the search: it predicts "
+                "held-out ranges better than the ranges')";
+    } else if (!j.case_log_chosen && !j.first_from_ranges) {
+      recheck = " (from the ranges' junction, re-checked after the search: it predicts held-out "
+                "ranges better than the case log's)";
+    }
   }
   if (trained.structure_recheck && trained.structure_recheck->chosen) {
     recheck += " (at " + trained.structure_recheck->again +

@@ -217,6 +217,16 @@ core::ThermalParameters with_junction_dynamics(const core::ThermalParameters& pa
   return out;
 }
 
+bool JunctionDynamicsFit::ranges_answer_above_start() const {
+  return !replaced && refused_by_final_fit.empty() && best.log_posterior() > start.log_posterior();
+}
+
+void JunctionDynamicsFit::take_ranges_answer() {
+  if (!ranges_answer_above_start()) return;
+  replaced = true;
+  replaced_untested = true;
+}
+
 core::EmStartingPoint least_squares_start(const Eigen::MatrixXd& h,
                                           const Eigen::VectorXd& y_minus_d,
                                           const core::MixtureParameters& mixture) {

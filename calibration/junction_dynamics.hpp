@@ -114,7 +114,15 @@ struct JunctionDynamicsFit {
   JunctionDynamics datasheet;  // the prior's centre
   JunctionDynamicsPoint start;  // the case-log fit's junction
   JunctionDynamicsPoint best;   // the search's answer
-  bool replaced = false;        // best replaced start (the test rejected start)
+  bool replaced = false;        // best replaced start (the test rejected start, or see below)
+  // best replaced start though the test did not reject it: asked for (JunctionSource::Ranges),
+  // as the junction re-check's alternative, because its posterior is above start's.
+  bool replaced_untested = false;
+  // Whether best, not taken, has a posterior above start's: the alternative the junction
+  // re-check may judge.
+  bool ranges_answer_above_start() const;
+  // Takes best in place of start where ranges_answer_above_start().
+  void take_ranges_answer();
   // Training's final fit failed on the junction from the ranges (its error): start was kept
   // although the test rejected it, and replaced is false.
   std::string refused_by_final_fit;

@@ -40,32 +40,61 @@ bool junction_may_be_rechecked(const Training& training) {
   return training.junction_dynamics && training.junction_dynamics->replaced;
 }
 
+std::optional<JunctionSource> junction_alternative(const Training& training) {
+  const std::optional<JunctionDynamicsFit>& fit = training.junction_dynamics;
+  if (!fit) return std::nullopt;
+  if (fit->replaced) return JunctionSource::CaseLog;
+  if (fit->ranges_answer_above_start()) return JunctionSource::Ranges;
+  return std::nullopt;
+}
+
+TrainSettings with_rechecked_junction(const TrainSettings& settings,
+                                      const std::optional<JunctionRecheck>& recheck) {
+  TrainSettings out = settings;
+  if (!recheck || !recheck->error.empty()) return out;
+  if (recheck->case_log_chosen) {
+    out.junction_source = JunctionSource::CaseLog;
+  } else if (!recheck->first_from_ranges) {
+    out.junction_source = JunctionSource::Ranges;
+  }
+  return out;
+}
+
 TrainedSearch recheck_junction(const MeasuredData& data, const TrainSettings& settings,
                                const ModelSearchOptions& options, TrainedSearch trained,
                                const TrainingProgress& progress) {
-  if (!junction_may_be_rechecked(trained.training) || !search_kept_a_term(trained.search)) {
-    return trained;
-  }
-  const std::optional<JunctionDynamicsFit>& fit = trained.training.junction_dynamics;
+  const std::optional<JunctionSource> alternative = junction_alternative(trained.training);
+  if (!alternative || !search_kept_a_term(trained.search)) return trained;
+  const JunctionDynamicsFit& fit = *trained.training.junction_dynamics;
   JunctionRecheck recheck;
-  recheck.from_ranges = fit->best.dynamics;
-  recheck.from_case_log = fit->start.dynamics;
-  recheck.kept_from_ranges = trained.search.kept;
-  TrainSettings case_log = settings;
-  case_log.junction_from_ranges = false;
+  recheck.first_from_ranges = *alternative == JunctionSource::CaseLog;
+  recheck.from_ranges = fit.best.dynamics;
+  recheck.from_case_log = fit.start.dynamics;
+  (recheck.first_from_ranges ? recheck.kept_from_ranges : recheck.kept_from_case_log) =
+      trained.search.kept;
+  TrainSettings other = settings;
+  other.junction_source = *alternative;
   try {
     TrainedSearch again = train_and_search(
-        data, case_log, options,
-        progress_part(progress, 0.0, 1.0, "re-checking the junction from the case log's, "));
+        data, other, options,
+        progress_part(progress, 0.0, 1.0,
+                      recheck.first_from_ranges ? "re-checking the junction from the case log's, "
+                                                : "re-checking the junction from the ranges', "));
     const CommonScores scores = common_scores(trained.search, again.search);
-    recheck.kept_from_case_log = again.search.kept;
     recheck.common_ranges = scores.ranges;
-    recheck.from_ranges_per_range = scores.first;
-    recheck.from_case_log_per_range = scores.second;
-    recheck.case_log_chosen = scores.second > scores.first;
-    if (recheck.case_log_chosen) {
+    recheck.first_per_range = scores.first;
+    recheck.again_per_range = scores.second;
+    (recheck.first_from_ranges ? recheck.kept_from_case_log : recheck.kept_from_ranges) =
+        again.search.kept;
+    // The first start stands on a tie: the re-check only replaces it when the other predicts
+    // held-out ranges better.
+    const bool again_chosen = scores.second > scores.first;
+    recheck.case_log_chosen = recheck.first_from_ranges == again_chosen;
+    if (again_chosen) {
       trained.training = std::move(again.training);
       trained.search = std::move(again.search);
+      // A structure re-check reported belongs to the start replaced.
+      trained.structure_recheck.reset();
     }
   } catch (const core::Error& e) {
     recheck.error = e.what();

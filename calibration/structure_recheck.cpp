@@ -4,6 +4,7 @@
 #include <string>
 
 #include "calibration/covariates.hpp"
+#include "calibration/junction_recheck.hpp"
 #include "core/error.hpp"
 
 namespace tofcomp::calibration {
@@ -44,10 +45,7 @@ TrainedSearch recheck_structure(const MeasuredData& data, const TrainSettings& s
   recheck.bias_terms = bias_terms;
   recheck.kept_first = trained.search.kept;
   // Training again as the re-checked junction stands.
-  TrainSettings again = settings;
-  if (trained.junction_recheck && trained.junction_recheck->case_log_chosen) {
-    again.junction_from_ranges = false;
-  }
+  TrainSettings again = with_rechecked_junction(settings, trained.junction_recheck);
   try {
     // The bias of the kept terms as fitted on all the data, at every range.
     const Eigen::VectorXd bias =

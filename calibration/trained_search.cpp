@@ -49,10 +49,16 @@ TrainedSearch search_and_recheck(const MeasuredData& data, const TrainSettings& 
     return recheck_training(data, settings, options, std::move(trained), rechecking);
   }
   if (early_recheck && kept_bias_terms(trained.search).size() > early_recheck->bias_terms.size()) {
-    return recheck_structure(data, settings, options, std::move(trained), rechecking);
+    trained = recheck_structure(data, settings, options, std::move(trained),
+                                progress_part(rechecking, 0.0, 0.5, ""));
+  } else {
+    trained.structure_recheck = std::move(early_recheck);
   }
-  trained.structure_recheck = std::move(early_recheck);
-  return trained;
+  // Training kept the case log's junction; the ranges' untested answer is judged as in
+  // recheck_training, unless a structure chosen again has replaced that training.
+  if (trained.structure_recheck && trained.structure_recheck->chosen) return trained;
+  return recheck_junction(data, settings, options, std::move(trained),
+                          progress_part(rechecking, 0.5, 0.5, ""));
 }
 
 TrainedSearch recheck_training(const MeasuredData& data, const TrainSettings& settings,

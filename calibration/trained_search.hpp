@@ -16,16 +16,23 @@ namespace tofcomp::calibration {
 
 // The junction re-checked after the search kept a term (calibration/junction_recheck.hpp).
 struct JunctionRecheck {
-  JunctionDynamics from_ranges;    // the junction training took from the ranges
+  // Training took the ranges' junction (their test rejected the case log's) and the re-check
+  // trained again from the case log's; or (false) training kept the case log's and the re-check
+  // trained again from the ranges' answer, untested.
+  bool first_from_ranges = true;
+  JunctionDynamics from_ranges;    // the ranges' answer (calibration/junction_dynamics.hpp)
   JunctionDynamics from_case_log;  // the case-log fit's
   std::vector<core::Term> kept_from_ranges;  // what the search from the ranges' junction kept
   std::vector<core::Term> kept_from_case_log;
   Eigen::Index common_ranges = 0;  // scored by both searches
-  // The final models' held-out log-likelihood per common range.
-  double from_ranges_per_range = 0.0;
-  double from_case_log_per_range = 0.0;
+  // The final models' held-out log-likelihood per common range: the first start's and the
+  // other's.
+  double first_per_range = 0.0;
+  double again_per_range = 0.0;
+  double from_ranges_per_range() const { return first_from_ranges ? first_per_range : again_per_range; }
+  double from_case_log_per_range() const { return first_from_ranges ? again_per_range : first_per_range; }
   bool case_log_chosen = false;
-  std::string error;  // why the case log's training or search failed (the ranges' are kept)
+  std::string error;  // why the other start's training or search failed (the first stands)
 };
 
 // The structure re-checked after the search kept a term on the bias
@@ -68,8 +75,9 @@ TrainedSearch recheck_training(const MeasuredData& data, const TrainSettings& se
 // steps after it would search from a structure about to be looked at again, and when the
 // structure chosen without that bias replaces the first, they are not run at all. Where the
 // first structure stands, the search goes on from the step it paused at (and the structure is
-// looked at again at its end only if later steps kept more terms on the bias). Otherwise, the
-// whole search, then recheck_training. progress: the search and the re-checks, each half.
+// looked at again at its end only if later steps kept more terms on the bias), and then the
+// junction's re-check from the ranges' untested answer, unless a structure chosen again replaced
+// the training. Otherwise, the whole search, then recheck_training. progress: the search and the re-checks, each half.
 TrainedSearch search_and_recheck(const MeasuredData& data, const TrainSettings& settings,
                                  const ModelSearchOptions& options, Training training,
                                  const TrainingProgress& progress = {});

@@ -235,12 +235,15 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   SmoothedJunction case_log_junction = t.junction;
   const Eigen::VectorXd case_log_junction_c = junction_c;
   const core::Basis case_log_basis = basis;
-  if (settings.junction_from_ranges && t.thermal.map && !too_few_to_choose) {
+  if (settings.junction_source != JunctionSource::CaseLog && t.thermal.map && !too_few_to_choose) {
     report(progress, kSearchShare, "junction dynamics from the ranges");
     const std::optional<core::ThermalNoise> held_noise =
         t.kalman_noise_fit ? held_junction_noise(*t.kalman_noise_fit) : std::nullopt;
     t.junction_dynamics = complete_junction(fit_data, settings, *t.thermal.map, noise, held_noise,
                                             junction_c, basis, em, structure_fit);
+    if (settings.junction_source == JunctionSource::Ranges) {
+      t.junction_dynamics->take_ranges_answer();
+    }
     if (t.junction_dynamics->replaced) {
       t.thermal_parameters = with_junction_dynamics(t.thermal_parameters,
                                                     t.junction_dynamics->best.dynamics);
@@ -286,6 +289,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
     // basis can be singular (a high order over the other span). The case-log junction, on which
     // the search fitted it, stays rather than the data being refused.
     t.junction_dynamics->replaced = false;
+    t.junction_dynamics->replaced_untested = false;
     t.junction_dynamics->refused_by_final_fit = e.what();
     t.thermal_parameters = t.thermal.identified();
     noise = t.junction_dynamics->chosen_noise();

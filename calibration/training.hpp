@@ -20,6 +20,15 @@
 
 namespace tofcomp::calibration {
 
+// Where training takes the junction's dynamics from.
+enum class JunctionSource {
+  CaseLog,                // the case-log fit's
+  RangesWhereTheyReject,  // the ranges' answer where their blocks' t-test rejects the case log's
+  // The ranges' answer wherever its posterior is above the case log's, tested or not: the
+  // alternative the junction re-check judges on held-out ranges (calibration/junction_recheck.hpp).
+  Ranges,
+};
+
 struct TrainSettings {
   ThermalFitSettings thermal;
   // The junction filter's noise levels (§3.3). Absent: chosen from the case log by the
@@ -32,10 +41,10 @@ struct TrainSettings {
   std::optional<int> modes;
   core::EmTrainOptions em;  // the final fit's options (em.modes is set from `modes` or the search)
   core::StructureSearchOptions search;
-  // The junction's own dynamics (P·R1, R1·C1) completed from the ranges where the case-log fit
-  // held them at the datasheet (calibration/junction_dynamics.hpp). Only with the datasheet-prior
-  // thermal fit; the paper's prediction-error fit (--free) keeps what it identified.
-  bool junction_from_ranges = true;
+  // Where the junction's own dynamics (P·R1, R1·C1) come from (calibration/junction_dynamics.hpp).
+  // Only with the datasheet-prior thermal fit; the paper's prediction-error fit (--free) keeps
+  // what it identified.
+  JunctionSource junction_source = JunctionSource::RangesWhereTheyReject;
   JunctionDynamicsOptions junction_dynamics;
   int threads = 0;  // the structure search's fits run at once; 0: one per core
   // A structure already chosen from these data, its evidence kept (calibration/

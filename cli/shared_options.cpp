@@ -124,7 +124,9 @@ calibration::TrainSettings TrainingOptions::settings() const {
     }
     s.modes = m;
   }
-  s.junction_from_ranges = junction == kJunctionFromRanges;
+  s.junction_source = junction == kJunctionFromRanges
+                          ? calibration::JunctionSource::RangesWhereTheyReject
+                          : calibration::JunctionSource::CaseLog;
   s.em.max_iterations = max_iterations;
   s.em.m_step = paper_m_step ? core::MStep::PaperAsPrinted : core::MStep::Exact;
   s.em.initialization =

@@ -96,6 +96,7 @@ nlohmann::json to_json(const calibration::JunctionDynamicsFit& fit) {
           {"block_t", fit.block_t},
           {"block_p", fit.block_p},
           {"replaced", fit.replaced},
+          {"replaced_untested", fit.replaced_untested},
           {"junction_noise",
            fit.held_junction_noise_start
                ? nlohmann::json{{"case_log_q_j", fit.case_log_noise.junction_process_psd_k2_per_s},
@@ -190,7 +191,9 @@ std::string junction_dynamics_text(const calibration::JunctionDynamicsFit& fit) 
       "datasheet {:.2f} K, {:.1f} s; the ranges' log-likelihood {:+.1f}, over blocks of {} t = {:.2f}, "
       "p = {:.2g}; {} points)\n",
       chosen.rise_k, chosen.time_constant_s,
-      fit.replaced ? "from the ranges: they reject the case-log fit's junction"
+      fit.replaced_untested
+          ? "from the ranges, untested: the junction re-check's alternative to the case-log fit's"
+      : fit.replaced ? "from the ranges: they reject the case-log fit's junction"
       : fit.refused_by_final_fit.empty()
           ? "the case-log fit's: the ranges do not reject it"
           : "the case-log fit's: the ranges reject it, but the final fit failed on their junction: " +

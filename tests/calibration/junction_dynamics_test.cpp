@@ -97,7 +97,7 @@ TEST(JunctionDynamics, TheDatasheetsJunctionIsKept) {
 TEST(JunctionDynamics, OffLeavesTheThermalFit) {
   TrainSettings settings;
   settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
-  settings.junction_from_ranges = false;
+  settings.junction_source = JunctionSource::CaseLog;
   settings.basis = "polynomial:4";
   settings.modes = 2;
   const Training t =

@@ -18,7 +18,7 @@ inline calibration::TrainSettings paper_structure_settings() {
   settings.basis = "polynomial:4";
   settings.modes = 2;
   settings.kalman_noise = core::ThermalNoise{};
-  settings.junction_from_ranges = false;
+  settings.junction_source = calibration::JunctionSource::CaseLog;
   return settings;
 }
 
