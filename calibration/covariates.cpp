@@ -13,6 +13,7 @@ core::CovariateTable covariate_table(const MeasuredData& data, const SmoothedJun
       series.ambient_c[k] = data.ambient_at(data.range_time_s[k], data.ambient.front().second);
     }
   }
+  series.heating_rate_c_per_min = junction.heating_rate_c_per_min;
   series.history_time_s = junction.history_time_s;
   series.history_junction_c = junction.history_junction_c;
   series.range_in_history = junction.range_in_history;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/thermal_model.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -75,6 +76,17 @@ SmoothedJunction junction_at_ranges(const ThermalRecordGrid& grid,
   SmoothedJunction out;
   out.junction_c = smoothed.junction_mean_c(grid.range_in_grid);
   out.junction_std_c = smoothed.junction_std_c(grid.range_in_grid);
+  // The model's rate at the smoothed state, not a slope of the smoothed junction over a window:
+  // after a power-on the junction settles with R1 C1 (about 12 s on the datasheet), so a slope
+  // over ±30 s flattened the rate where it is largest (and one-sided at the power-on itself).
+  out.heating_rate_c_per_min.resize(grid.range_in_grid.size());
+  for (Eigen::Index k = 0; k < grid.range_in_grid.size(); ++k) {
+    const int g = grid.range_in_grid[k];
+    out.heating_rate_c_per_min[k] =
+        core::kSecondsPerMinute * core::junction_rate_c_per_s(thermal, smoothed.case_mean_c[g],
+                                                              smoothed.junction_mean_c[g],
+                                                              grid.power_on[g]);
+  }
   out.range_in_history = grid.range_in_grid;
   out.history_time_s = grid.time_s;
   out.history_junction_c = smoothed.junction_mean_c;

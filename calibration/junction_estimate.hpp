@@ -16,9 +16,12 @@ namespace tofcomp::calibration {
 // merged time grid of readings and ranges.
 // Also the smoothed junction over the whole merged grid (power-off gaps included), with each
 // range's place in it: the history the junction's lag runs over (core/covariate_table.hpp).
+// And the junction's heating rate at every range: Eq. 3's second line at the smoothed state and
+// the power (core::junction_rate_c_per_s), the rate the daemon computes at its filter's state.
 struct SmoothedJunction {
   Eigen::VectorXd junction_c;
   Eigen::VectorXd junction_std_c;
+  Eigen::VectorXd heating_rate_c_per_min;
   Eigen::VectorXd history_time_s;
   Eigen::VectorXd history_junction_c;
   Eigen::VectorXi range_in_history;

@@ -110,6 +110,17 @@ double MeasuredData::ambient_at(double time_s, double fallback_c) const {
   return after == ambient.begin() ? ambient.front().second : std::prev(after)->second;
 }
 
+double MeasuredData::median_ambient_at_ranges(double fallback_c) const {
+  if (ambient.empty() || range_time_s.size() == 0) return fallback_c;
+  std::vector<double> at_ranges(static_cast<std::size_t>(range_time_s.size()));
+  for (Eigen::Index k = 0; k < range_time_s.size(); ++k) {
+    at_ranges[static_cast<std::size_t>(k)] = ambient_at(range_time_s[k], fallback_c);
+  }
+  const auto middle = at_ranges.begin() + static_cast<std::ptrdiff_t>(at_ranges.size() / 2);
+  std::nth_element(at_ranges.begin(), middle, at_ranges.end());
+  return *middle;
+}
+
 void MeasuredData::require_true_ranges() const {
   for (std::size_t k = 0; k < has_true_range.size(); ++k) {
     if (!has_true_range[k]) {

@@ -58,6 +58,10 @@ struct MeasuredData {
   void require_millimetre_ranges() const;
   // The last logged ambient at or before time_s (the first one before it), or fallback.
   double ambient_at(double time_s, double fallback_c) const;
+  // The median of ambient_at over the ranges' instants: the ambient the ranges were measured
+  // in, which a calibration carries for a daemon that has no ambient sensor; fallback when the
+  // data log no ambient or have no ranges.
+  double median_ambient_at_ranges(double fallback_c) const;
   // Throws core::InvalidInput unless every range has a true distance, naming the first line
   // that has none.
   void require_true_ranges() const;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/thermal_model.hpp"
 #include "core/validation.hpp"
 
 namespace tofcomp::core {
@@ -108,10 +109,16 @@ CovariateTable::CovariateTable(CovariateSeries series) : series_(std::move(serie
       }
     }
   }
-  heating_rate_c_per_min_ =
-      n > 0 ? Eigen::VectorXd(60.0 * local_rate(series_.time_s, series_.junction_c,
-                                                kHeatingRateHalfWindowS))
-            : Eigen::VectorXd();
+  if (series_.heating_rate_c_per_min.size() > 0) {
+    require_same_length(n, "time", series_.heating_rate_c_per_min.size(), "heating rate");
+    require_finite(series_.heating_rate_c_per_min, "heating rate");
+    heating_rate_c_per_min_ = series_.heating_rate_c_per_min;
+  } else {
+    heating_rate_c_per_min_ =
+        n > 0 ? Eigen::VectorXd(kSecondsPerMinute * local_rate(series_.time_s, series_.junction_c,
+                                                               kHeatingRateHalfWindowS))
+              : Eigen::VectorXd();
+  }
 }
 
 bool CovariateTable::available(Covariate c) const {

@@ -11,7 +11,8 @@
 
 namespace tofcomp::core {
 
-// The junction's heating rate is the slope of its estimate over ±30 s around each range.
+// A series that brings no heating rate of its own (one without a thermal model) gets the slope
+// of its junction over ±30 s around each range.
 inline constexpr double kHeatingRateHalfWindowS = 30.0;
 
 struct CovariateSeries {
@@ -19,6 +20,9 @@ struct CovariateSeries {
   Eigen::VectorXd junction_c;             // t̂^j at each range
   Eigen::VectorXd time_since_power_on_s;  // at each range
   Eigen::VectorXd ambient_c;              // at each range; empty when the data log none
+  // dt̂^j/dt at each range in °C/min, from the thermal model (calibration/junction_estimate.hpp);
+  // empty: the slope of junction_c over ±kHeatingRateHalfWindowS.
+  Eigen::VectorXd heating_rate_c_per_min;
   // The junction's estimate over the whole record (power-off included) and each range's index in
   // it; empty: the lag runs over the ranges' own instants.
   Eigen::VectorXd history_time_s;

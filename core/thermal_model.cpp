@@ -96,6 +96,13 @@ DiscreteThermalModel discretize_zoh(const ThermalParameters& parameters, double 
   return d;
 }
 
+// Eq. 3, second line.
+double junction_rate_c_per_s(const ThermalParameters& parameters, double case_c, double junction_c,
+                             double power_on_fraction) {
+  return power_on_fraction * parameters.power_w / parameters.c1_j_per_k +
+         (case_c - junction_c) / (parameters.r1_k_per_w * parameters.c1_j_per_k);
+}
+
 // Eq. 3 with ẋ = 0.
 Eigen::Vector2d equilibrium_state(const ThermalParameters& parameters, double power_on_fraction,
                                   double ambient_c) {

@@ -85,6 +85,16 @@ DiscreteThermalModel discretize_euler(const ThermalParameters& parameters, doubl
 // (T = 0 gives the identity, for repeated timestamps).
 DiscreteThermalModel discretize_zoh(const ThermalParameters& parameters, double step_s);
 
+// Eq. 3's second line, the junction's heating rate in °C/s at the state [t^c, t^j] with the
+// laser's on fraction u: ṫ^j = u P / C1 + (t^c − t^j) / (R1 C1). The ambient does not enter it.
+// The grammar's heating-rate covariate (offline at the smoothed state, calibration/
+// junction_estimate.hpp) and the daemon's (at the filter's predicted state) are this one rate.
+// `parameters` are taken as valid (ThermalParameters::validate).
+double junction_rate_c_per_s(const ThermalParameters& parameters, double case_c, double junction_c,
+                             double power_on_fraction);
+// The heating rate is a covariate in °C/min.
+inline constexpr double kSecondsPerMinute = 60.0;
+
 // Eq. 3 at rest for constant inputs: t^c = t^a + u P R2, t^j = t^c + u P R1.
 Eigen::Vector2d equilibrium_state(const ThermalParameters& parameters, double power_on_fraction,
                                   double ambient_c);

@@ -129,6 +129,9 @@ int training_child_main(int argc, char** argv) {
     calibration::TrainSettings settings;
     // An empty --datasheet: recalibration.datasheet left out, the built-in LMS 200's.
     settings.thermal.datasheet = io::datasheet_or_bundled(options["--datasheet"]);
+    // A recording logs no ambient (the daemon has no sensor for it): the ambient the running
+    // calibration holds stays the one the new calibration carries.
+    if (running) settings.thermal.ambient_fallback_c = running->ambient_c;
     const calibration::ModelSearchOptions search;  // the defaults of tofcomp diagnose
     const calibration::HeldOutTraining trained = calibration::train_with_held_out(
         data, settings, running ? &*running : nullptr, model_search ? &search : nullptr);

@@ -17,7 +17,6 @@ JunctionTracker::JunctionTracker(const core::Calibration& calibration,
   }
   calibration_.thermal.validate();
   calibration_.kalman_noise.validate();
-  continuous_ = core::continuous_model(calibration_.thermal);
 }
 
 void JunctionTracker::advance_to(double time_s) {
@@ -62,10 +61,10 @@ JunctionEstimate JunctionTracker::at(double time_s) const {
   e.junction_std_c = predicted.junction_std_c();
   e.case_c = last_case_c_;
   e.stale = time_s - last_reading_time_s_ > settings_.stale_after_s;
-  const Eigen::Vector2d rate = continuous_.a * predicted.belief().mean +
-                               continuous_.b_power * (power_on_ ? 1.0 : 0.0) +
-                               continuous_.b_ambient * calibration_.ambient_c;
-  e.heating_rate_c_per_min = 60.0 * rate[1];
+  const Eigen::Vector2d& state = predicted.belief().mean;
+  e.heating_rate_c_per_min =
+      core::kSecondsPerMinute *
+      core::junction_rate_c_per_s(calibration_.thermal, state[0], state[1], power_on_ ? 1.0 : 0.0);
   e.time_since_power_on_s = power_on_ ? std::max(0.0, time_s - powered_since_s_) : 0.0;
   return e;
 }

@@ -62,7 +62,6 @@ class JunctionTracker {
   void advance_to(double time_s);
 
   core::Calibration calibration_;
-  core::ContinuousThermalModel continuous_;
   JunctionTrackerSettings settings_;
   std::optional<core::ThermalKalmanFilter> filter_;
   double filter_time_s_ = 0.0;

@@ -4,7 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
+#include "core/covariate_table.hpp"
 #include "core/error.hpp"
+#include "core/thermal_model.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -69,6 +74,17 @@ TEST(ThermalRecordGrid, TheJunctionAtEachRangeIsTheSmoothedHistoryAtItsInstant) 
   EXPECT_EQ(junction_at_ranges(data, thermal, noise, 22.0).junction_c, junction.junction_c);
 }
 
+TEST(MeasuredData, TheMedianAmbientIsTheOneLoggedAtTheRanges) {
+  // small_record: the ambient 20 °C until 2 s, 25 °C after; ranges at 0.5, 1 and 2.5 s.
+  EXPECT_DOUBLE_EQ(small_record().median_ambient_at_ranges(22.0), 20.0);
+  MeasuredData later = small_record();
+  later.range_time_s = Eigen::Vector3d(0.5, 2.5, 2.8);
+  EXPECT_DOUBLE_EQ(later.median_ambient_at_ranges(22.0), 25.0);
+  MeasuredData no_ambient = small_record();
+  no_ambient.ambient.clear();
+  EXPECT_DOUBLE_EQ(no_ambient.median_ambient_at_ranges(22.0), 22.0);
+}
+
 TEST(ThermalRecordGrid, ARecordWithoutCaseReadingsIsRefusedByName) {
   MeasuredData data = small_record();
   data.temperature_time_s.resize(0);
@@ -79,6 +95,97 @@ TEST(ThermalRecordGrid, ARecordWithoutCaseReadingsIsRefusedByName) {
   } catch (const core::InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("small: no case_temp_c readings"), std::string::npos);
   }
+}
+
+// A record that follows Eq. 3 exactly (the datasheet-like example, junction lag R1 C1 = 12 s):
+// the laser on from cold at 0 s, off at 300 s, on again at 400 s until 600 s; the case read
+// every 0.5 s, rounded as a sensor rounds, a range every 0.25 s while the laser is on.
+MeasuredData exact_power_on_record() {
+  const core::ThermalParameters thermal = core::lms200_example_parameters();
+  constexpr double kAmbientC = 22.0;
+  constexpr double kEndS = 600.0;
+  MeasuredData data;
+  data.source = "exact";
+  data.power_changes = {core::PowerChange{300.0, false}, core::PowerChange{400.0, true}};
+  data.ambient = {{0.0, kAmbientC}};
+  const int readings = static_cast<int>(kEndS / 0.5);
+  const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(readings, 0.0, kEndS - 0.5);
+  Eigen::VectorXd on(readings);
+  for (int i = 0; i < readings; ++i) on[i] = data.power_on_fraction(times[i], times[i] + 0.5);
+  data.temperature_time_s = times;
+  // Read as a TMP102 reads it, in steps of 1/16 °C.
+  constexpr double kSensorStepC = 0.0625;
+  data.case_c = (core::simulate_at_times(thermal, Eigen::Vector2d(kAmbientC, kAmbientC), times, on,
+                                         Eigen::VectorXd::Constant(readings, kAmbientC))
+                     .case_c.array() /
+                 kSensorStepC)
+                    .round() *
+                kSensorStepC;
+  std::vector<double> range_times;
+  for (double t = 0.125; t < kEndS; t += 0.25) {
+    if (data.power_on_at(t)) range_times.push_back(t);
+  }
+  const auto n = static_cast<Eigen::Index>(range_times.size());
+  data.range_time_s = Eigen::Map<const Eigen::VectorXd>(range_times.data(), n);
+  data.range_mm = Eigen::VectorXd::Constant(n, 1000.0);
+  data.true_range_mm = data.range_mm;
+  data.has_true_range.assign(range_times.size(), true);
+  return data;
+}
+
+// The true junction's rate: central differences of Eq. 3 simulated finely (ZOH steps of 1 ms
+// from rest at the ambient), independent of the model's formula.
+class TrueJunctionRate {
+ public:
+  explicit TrueJunctionRate(const MeasuredData& data) {
+    const int steps =
+        static_cast<int>(std::lround(data.range_time_s.maxCoeff() / kStepS)) + 2 * kHalf + 1;
+    const Eigen::VectorXd times = Eigen::VectorXd::LinSpaced(steps, 0.0, (steps - 1) * kStepS);
+    Eigen::VectorXd on(steps);
+    for (int i = 0; i < steps; ++i) on[i] = data.power_on_at(times[i]) ? 1.0 : 0.0;
+    junction_c_ =
+        core::simulate_at_times(core::lms200_example_parameters(), Eigen::Vector2d(22.0, 22.0),
+                                times, on, Eigen::VectorXd::Constant(steps, 22.0))
+            .junction_c;
+  }
+  double at(double time_s) const {
+    const auto k = static_cast<Eigen::Index>(std::lround(time_s / kStepS));
+    return (junction_c_[k + kHalf] - junction_c_[k - kHalf]) / (2 * kHalf * kStepS);
+  }
+
+ private:
+  static constexpr double kStepS = 0.001;
+  static constexpr int kHalf = 10;
+  Eigen::VectorXd junction_c_;
+};
+
+TEST(SmoothedJunction, TheHeatingRateAfterAPowerOnIsTheJunctionsOwn) {
+  const MeasuredData data = exact_power_on_record();
+  const core::ThermalParameters thermal = core::lms200_example_parameters();
+  const SmoothedJunction junction = junction_at_ranges(data, thermal, core::ThermalNoise{}, 22.0);
+  ASSERT_EQ(junction.heating_rate_c_per_min.size(), data.range_time_s.size());
+  const Eigen::VectorXd slope = 60.0 * core::local_rate(data.range_time_s, junction.junction_c,
+                                                        core::kHeatingRateHalfWindowS);
+  // The first minute after each power-on, where the junction settles on the case (P R1 = 2 K in
+  // R1 C1 = 12 s: up to P / C1 = 10 °C/min) and the rate is largest.
+  const TrueJunctionRate truth_of(data);
+  double peak = 0.0, model_error = 0.0, slope_error = 0.0;
+  for (Eigen::Index k = 0; k < data.range_time_s.size(); ++k) {
+    const double t = data.range_time_s[k];
+    const double since_on = t - data.last_power_on_at(t);
+    if (since_on > 60.0 || t < 1.0) continue;
+    const double truth = 60.0 * truth_of.at(t);
+    peak = std::max(peak, std::abs(truth));
+    model_error = std::max(model_error, std::abs(junction.heating_rate_c_per_min[k] - truth));
+    slope_error = std::max(slope_error, std::abs(slope[k] - truth));
+  }
+  EXPECT_GT(peak, 5.0);  // °C/min: the transient is there
+  // The smoothed state's own error from readings in steps of 1/16 °C (0.59 of a peak of
+  // 9.87 °C/min when written; 0 with exact readings).
+  EXPECT_LT(model_error, 0.1 * peak);
+  // A slope over ±30 s, what the covariate was before, is off by two thirds of the peak there
+  // (6.51 °C/min).
+  EXPECT_GT(slope_error, 0.3 * peak);
 }
 
 }  // namespace

@@ -135,5 +135,36 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"effect-warm-up", {core::Parameter::Bias, core::Covariate::TimeSincePowerOn}, 1.8},
         Case{"effect-mode-persistence", {core::Parameter::Markov, core::Covariate::None}, 1.1}));
 
+// A calibration trained on data logged in a warm room carries that room's ambient (the median
+// the data logged at their ranges), so the daemon's path, which has no ambient sensor, runs its
+// junction filter at it: trained at the fallback of 22 °C instead, the filter's junction stands
+// R1 / R2 × 6 K off and d̂ with it (window MAE 0.055 mm against 0.435 mm when written).
+TEST(ReplayAtTheLoggedAmbient, TheCalibrationCarriesTheAmbientItsDataLogged) {
+  constexpr double kRoomC = 28.0;
+  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+  scenario.seed = 11;
+  scenario.ambient.base_c = kRoomC;
+  const MeasuredData data = test::twin_measured_data(scenario);
+  ASSERT_FALSE(data.ambient.empty());
+  TrainSettings settings;
+  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.basis = "polynomial:4";
+  settings.modes = 2;
+  // The filter's noise levels fitted to the case log, as `tofcomp train` fits them: the
+  // smaller they are, the more the filter's junction follows the model at its ambient.
+  const double split = split_time(data, 0.5);
+  const Training trained = train_calibration(data.slice(-1e300, split), settings);
+  EXPECT_NEAR(trained.calibration.ambient_c, kRoomC, 0.1);
+
+  const io::MeasurementTable recording = recording_of(data);
+  core::Calibration at_fallback = trained.calibration;
+  at_fallback.ambient_c = settings.thermal.ambient_fallback_c;
+  const double logged = window_error(trained.calibration, recording, data, split, nullptr);
+  const double fallback = window_error(at_fallback, recording, data, split, nullptr);
+  std::printf("window MAE %.4f mm at the logged ambient, %.4f mm at the fallback's %.0f °C\n",
+              logged, fallback, settings.thermal.ambient_fallback_c);
+  EXPECT_LT(logged, 0.5 * fallback);
+}
+
 }  // namespace
 }  // namespace tofcomp::calibration

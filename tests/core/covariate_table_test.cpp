@@ -153,5 +153,29 @@ TEST(CovariateTerm, ASmoothTermsKnotCountIsChecked) {
                InvalidInput);
 }
 
+TEST(CovariateTable, TheHeatingRateIsTheSeriesOwnWhereItBringsOne) {
+  CovariateSeries s;
+  s.time_s = Eigen::VectorXd::LinSpaced(kRanges, 0.0, static_cast<double>(kRanges - 1));
+  s.junction_c = 20.0 + 0.1 * s.time_s.array();  // 6 °C/min by its slope
+  s.time_since_power_on_s = s.time_s;
+  // Without a rate of its own, the slope of the junction: 0.1 °C/s is 6 °C/min everywhere.
+  const Eigen::VectorXd slope = CovariateTable(s).values(Covariate::HeatingRate);
+  EXPECT_NEAR((slope.array() - 6.0).abs().maxCoeff(), 0.0, 1e-9);
+  // With one (the thermal model's, calibration/junction_estimate.hpp), that one.
+  s.heating_rate_c_per_min = Eigen::VectorXd::LinSpaced(kRanges, -1.0, 1.0);
+  EXPECT_EQ(CovariateTable(s).values(Covariate::HeatingRate), s.heating_rate_c_per_min);
+  // One of another length, or not a number, is refused by name.
+  CovariateSeries short_rate = s;
+  short_rate.heating_rate_c_per_min.conservativeResize(kRanges - 1);
+  try {
+    CovariateTable{short_rate};
+    FAIL() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("heating rate"), std::string::npos) << e.what();
+  }
+  s.heating_rate_c_per_min[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(CovariateTable{s}, InvalidInput);
+}
+
 }  // namespace
 }  // namespace tofcomp::core
