@@ -70,8 +70,7 @@ TrainedSearch recheck_junction(const MeasuredData& data, const TrainSettings& se
   recheck.first_from_ranges = *alternative == JunctionSource::CaseLog;
   recheck.from_ranges = fit.best.dynamics;
   recheck.from_case_log = fit.start.dynamics;
-  (recheck.first_from_ranges ? recheck.kept_from_ranges : recheck.kept_from_case_log) =
-      trained.search.kept;
+  recheck.kept_first() = trained.search.kept;
   TrainSettings other = settings;
   other.junction_source = *alternative;
   try {
@@ -84,8 +83,7 @@ TrainedSearch recheck_junction(const MeasuredData& data, const TrainSettings& se
     recheck.common_ranges = scores.ranges;
     recheck.first_per_range = scores.first;
     recheck.again_per_range = scores.second;
-    (recheck.first_from_ranges ? recheck.kept_from_case_log : recheck.kept_from_ranges) =
-        again.search.kept;
+    recheck.kept_again() = again.search.kept;
     // The first start stands on a tie: the re-check only replaces it when the other predicts
     // held-out ranges better.
     const bool again_chosen = scores.second > scores.first;

@@ -29,10 +29,30 @@ struct JunctionRecheck {
   // other's.
   double first_per_range = 0.0;
   double again_per_range = 0.0;
-  double from_ranges_per_range() const { return first_from_ranges ? first_per_range : again_per_range; }
-  double from_case_log_per_range() const { return first_from_ranges ? again_per_range : first_per_range; }
   bool case_log_chosen = false;
   std::string error;  // why the other start's training or search failed (the first stands)
+
+  double from_ranges_per_range() const {
+    return first_from_ranges ? first_per_range : again_per_range;
+  }
+  double from_case_log_per_range() const {
+    return first_from_ranges ? again_per_range : first_per_range;
+  }
+  // What the search from the first start kept, and from the other.
+  std::vector<core::Term>& kept_first() {
+    return first_from_ranges ? kept_from_ranges : kept_from_case_log;
+  }
+  const std::vector<core::Term>& kept_first() const {
+    return first_from_ranges ? kept_from_ranges : kept_from_case_log;
+  }
+  std::vector<core::Term>& kept_again() {
+    return first_from_ranges ? kept_from_case_log : kept_from_ranges;
+  }
+  const std::vector<core::Term>& kept_again() const {
+    return first_from_ranges ? kept_from_case_log : kept_from_ranges;
+  }
+  // The other start replaced the first.
+  bool again_chosen() const { return error.empty() && case_log_chosen == first_from_ranges; }
 };
 
 // The structure re-checked after the search kept a term on the bias
@@ -77,7 +97,8 @@ TrainedSearch recheck_training(const MeasuredData& data, const TrainSettings& se
 // first structure stands, the search goes on from the step it paused at (and the structure is
 // looked at again at its end only if later steps kept more terms on the bias), and then the
 // junction's re-check from the ranges' untested answer, unless a structure chosen again replaced
-// the training. Otherwise, the whole search, then recheck_training. progress: the search and the re-checks, each half.
+// the training. Otherwise, the whole search, then recheck_training. progress: the search and the
+// re-checks, each half.
 TrainedSearch search_and_recheck(const MeasuredData& data, const TrainSettings& settings,
                                  const ModelSearchOptions& options, Training training,
                                  const TrainingProgress& progress = {});

@@ -34,20 +34,20 @@ std::string junction_recheck_text(const calibration::JunctionRecheck& r) {
   std::string out = fmt::format(
       "the junction re-checked: training took {} (the ranges' rise {:.2f} K, {:.1f} s{}; the case "
       "log's {:.2f} K, {:.1f} s) and the search kept {}; ",
-      r.first_from_ranges ? "it from the ranges" : "the case log's",
-      r.from_ranges.rise_k, r.from_ranges.time_constant_s,
+      r.first_from_ranges ? "it from the ranges" : "the case log's", r.from_ranges.rise_k,
+      r.from_ranges.time_constant_s,
       r.first_from_ranges ? "" : ", its blocks' test not rejecting the case log's",
       r.from_case_log.rise_k, r.from_case_log.time_constant_s,
-      effect_names_or_nothing(r.first_from_ranges ? r.kept_from_ranges : r.kept_from_case_log));
-  if (!r.error.empty()) return out + fmt::format("from {} junction: {}; {} stands\n", other, r.error, first);
-  const bool again_chosen = r.case_log_chosen == r.first_from_ranges;
+      effect_names_or_nothing(r.kept_first()));
+  if (!r.error.empty())
+    return out + fmt::format("from {} junction: {}; {} stands\n", other, r.error, first);
   out += fmt::format(
       "from {} it keeps {}; held-out log-likelihood per range ({} scored by both) "
       "{:.4f} from the ranges', {:.4f} from the case log's: {}\n",
-      other, effect_names_or_nothing(r.first_from_ranges ? r.kept_from_case_log : r.kept_from_ranges),
-      r.common_ranges, r.from_ranges_per_range(), r.from_case_log_per_range(),
-      again_chosen ? fmt::format("{} junction is the start reported", other)
-                   : fmt::format("{} junction stands", first));
+      other, effect_names_or_nothing(r.kept_again()), r.common_ranges, r.from_ranges_per_range(),
+      r.from_case_log_per_range(),
+      r.again_chosen() ? fmt::format("{} junction is the start reported", other)
+                       : fmt::format("{} junction stands", first));
   return out;
 }
 
