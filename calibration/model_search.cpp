@@ -937,6 +937,11 @@ void ModelSearchRun::State::drop_redundant_terms() {
   }
 }
 
+const core::Calibration& calibration_to_deploy(const core::Calibration& trained,
+                                               const ModelSearchResult* search) {
+  return search && !search->kept.empty() ? search->calibration : trained;
+}
+
 ModelSearchResult ModelSearchRun::result() const {
   const State& s = *state_;
   ModelSearchResult result = s.result;

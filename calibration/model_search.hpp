@@ -200,6 +200,11 @@ struct ModelSearchResult {
   Eigen::Index basis_directions_held = 0;
 };
 
+// The calibration to deploy after a search from `trained`: the search's where it kept a term, the
+// trained one bit for bit where it kept nothing (`search` null: no search ran).
+const core::Calibration& calibration_to_deploy(const core::Calibration& trained,
+                                               const ModelSearchResult* search);
+
 using ModelSearchProgress = std::function<void(double share, const std::string& stage)>;
 
 // The search on data with a known distance, from the paper's model trained on them (its thermal

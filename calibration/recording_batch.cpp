@@ -47,8 +47,7 @@ std::vector<std::filesystem::path> recordings_in(const std::filesystem::path& di
 
 const core::Calibration& RecordingOutcome::calibration() const {
   if (!training) throw core::Error(recording.string() + ": not calibrated: " + error);
-  if (search && !search->kept.empty()) return search->calibration;
-  return training->calibration;
+  return calibration_to_deploy(training->calibration, search ? &*search : nullptr);
 }
 
 namespace {

@@ -110,7 +110,7 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       ->check(between(1, kMaxParallelism));
   cmd->add_option("--calibration-output", s->calibration_output,
                   "Write the calibration with the kept terms (for tofcomp test, replay and "
-                  "tofcompd)");
+                  "tofcompd); the trained one when the search kept nothing");
   cmd->add_option("--covariates-output", s->covariates_output,
                   "Write the covariates the search tried at each range, with the trained model's "
                   "centred residual, as CSV (to plot one against the other; columns in "
@@ -148,8 +148,10 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
       result.text += trained_model_text(base.calibration, structure);
       result.text += "\nevidence: the residual tests of the trained model\n";
       result.text += diagnosis_text(tests);
-      if (!search.kept.empty() && !s->calibration_output.empty()) {
-        io::write_calibration_file(s->calibration_output, search.calibration);
+      // Nothing kept: the trained calibration, written all the same (as calibrate-dir does).
+      if (!s->calibration_output.empty()) {
+        io::write_calibration_file(s->calibration_output,
+                                   calibration::calibration_to_deploy(base.calibration, &search));
       }
       result.text += kept_terms_note(!search.kept.empty(), s->calibration_output);
       report->write_if_requested(measured, training->settings(), result.json, base.calibration,

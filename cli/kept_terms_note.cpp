@@ -4,7 +4,11 @@
 namespace tofcomp::cli {
 
 std::string kept_terms_note(bool kept_any, const std::string& output) {
-  if (!kept_any) return {};
+  if (!kept_any) {
+    if (output.empty()) return {};
+    return "the search kept nothing: the trained calibration (the paper's model) written to " +
+           output + "\n";
+  }
   if (output.empty()) {
     return "the calibration with the kept terms is not written: --calibration-output C.yaml "
            "writes it\n";

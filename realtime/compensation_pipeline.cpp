@@ -1,5 +1,9 @@
 #include "realtime/compensation_pipeline.hpp"
 
+#include <cmath>
+
+#include "core/error.hpp"
+
 namespace tofcomp::realtime {
 
 CompensationPipeline::CompensationPipeline(PipelineSettings settings)
@@ -10,6 +14,7 @@ void CompensationPipeline::restart_tracker() {
   if (!calibration_) return;
   tracker_.emplace(*calibration_, settings_.junction);
   if (power_) tracker_->set_power(power_->first, power_->second);
+  if (ambient_) tracker_->set_ambient(ambient_->first, ambient_->second);
   if (last_switch_on_s_) tracker_->set_last_switch_on(*last_switch_on_s_);
   if (last_reading_) tracker_->add_case_reading(last_reading_->first, last_reading_->second);
 }
@@ -45,6 +50,14 @@ void CompensationPipeline::on_power(double time_s, bool on) {
   if (on && !(power_ ? power_->second : true)) last_switch_on_s_ = time_s;
   power_ = {time_s, on};
   if (tracker_) tracker_->set_power(time_s, on);
+}
+
+void CompensationPipeline::on_ambient(double time_s, double ambient_c) {
+  if (!std::isfinite(time_s) || !std::isfinite(ambient_c)) {
+    throw core::InvalidInput("an ambient reading must be finite");
+  }
+  if (tracker_) tracker_->set_ambient(time_s, ambient_c);
+  ambient_ = {time_s, ambient_c};
 }
 
 ipc::CompensatedScan CompensationPipeline::on_scan(const RawScan& scan) {

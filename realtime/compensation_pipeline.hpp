@@ -41,6 +41,9 @@ class CompensationPipeline {
 
   void on_case_reading(double time_s, double case_c);
   void on_power(double time_s, bool on);
+  // An ambient reading (a recording's ambient_c): the junction filter runs at it from then on,
+  // and an ambient term reads it; without one, both use the calibration's ambient.
+  void on_ambient(double time_s, double ambient_c);
   // The scan compensated, numbered from 0 without gaps.
   ipc::CompensatedScan on_scan(const RawScan& scan);
 
@@ -57,6 +60,7 @@ class CompensationPipeline {
   std::optional<std::pair<double, double>> last_reading_;  // time_s, case_c
   std::optional<std::pair<double, bool>> power_;           // time_s of the last change, state
   std::optional<double> last_switch_on_s_;
+  std::optional<std::pair<double, double>> ambient_;  // time_s, ambient_c of the last
   std::uint64_t next_sequence_ = 0;
 };
 

@@ -21,7 +21,7 @@ JunctionTracker::JunctionTracker(const core::Calibration& calibration,
 
 void JunctionTracker::advance_to(double time_s) {
   if (!filter_ || time_s <= filter_time_s_) return;
-  filter_->predict(time_s - filter_time_s_, power_on_ ? 1.0 : 0.0, calibration_.ambient_c);
+  filter_->predict(time_s - filter_time_s_, power_on_ ? 1.0 : 0.0, ambient_c());
   filter_time_s_ = time_s;
 }
 
@@ -32,9 +32,8 @@ void JunctionTracker::add_case_reading(double time_s, double case_c) {
   if (!filter_) {
     // The prior of the offline pipeline: the junction at rest on the heat the case sheds.
     filter_.emplace(calibration_.thermal, calibration_.kalman_noise,
-                    core::prior_at_case_temperature(
-                        calibration_.thermal, case_c, calibration_.ambient_c,
-                        settings_.initial_case_std_c));
+                    core::prior_at_case_temperature(calibration_.thermal, case_c, ambient_c(),
+                                                    settings_.initial_case_std_c));
     filter_time_s_ = time_s;
   }
   advance_to(time_s);
@@ -49,12 +48,21 @@ void JunctionTracker::set_power(double time_s, bool on) {
   power_on_ = on;
 }
 
+void JunctionTracker::set_ambient(double time_s, double ambient_c) {
+  if (!std::isfinite(time_s) || !std::isfinite(ambient_c)) {
+    throw core::InvalidInput("junction tracker: an ambient reading must be finite");
+  }
+  advance_to(time_s);  // the interval before the reading had the old ambient
+  ambient_c_ = ambient_c;
+}
+
 JunctionEstimate JunctionTracker::at(double time_s) const {
   JunctionEstimate e;
+  e.ambient_c = ambient_c();
   if (!filter_) return e;
   core::ThermalKalmanFilter predicted = *filter_;
   if (time_s > filter_time_s_) {
-    predicted.predict(time_s - filter_time_s_, power_on_ ? 1.0 : 0.0, calibration_.ambient_c);
+    predicted.predict(time_s - filter_time_s_, power_on_ ? 1.0 : 0.0, ambient_c());
   }
   e.valid = true;
   e.junction_c = predicted.junction_mean_c();

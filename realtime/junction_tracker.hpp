@@ -6,12 +6,10 @@
 // changes. Times are seconds on one monotonic clock.
 //
 // The junction's heating rate dt^j/dt, the covariate of the heating-hysteresis extension
-// (core/model_extension.hpp), is Eq. 3's own at the predicted state: causal, instantaneous. The
-// offline covariate is instead the least-squares slope of the RTS-smoothed junction over ±30 s
-// (core::covariate_values), which looks ahead and averages the fast junction transient after a
-// power change over 60 s (docs/daemon.md). A causal least-squares slope over the past 60 s of
-// the filtered junction lags it by 30 s and was worse on the twin (tests/cli/
-// replay_extension_test.cpp: d̂ error 0.150 mm against 0.067 mm, the paper's model 0.110 mm).
+// (core/model_extension.hpp), is Eq. 3's own at the predicted state: causal, instantaneous, the
+// same function the offline search applies at the RTS-smoothed state (docs/daemon.md, "The
+// heating rate"). The ambient t^a is the last ambient reading (a recording's ambient_c), the
+// calibration's before the first.
 #pragma once
 
 #include <optional>
@@ -40,6 +38,9 @@ struct JunctionEstimate {
   // Seconds since the scanner's power was last switched on (since the clock's origin when it
   // has been on throughout): the warm-up covariate.
   double time_since_power_on_s = 0.0;
+  // The ambient t^a of Eq. 3 the filter ran at: the last ambient reading, or the calibration's
+  // (the median its data logged) where none came; an ambient term's covariate.
+  double ambient_c = 0.0;
 };
 
 class JunctionTracker {
@@ -52,6 +53,9 @@ class JunctionTracker {
   void add_case_reading(double time_s, double case_c);
   // The scanner's power from time_s on (a switch-on restarts the time since power-on).
   void set_power(double time_s, bool on);
+  // The ambient t^a of Eq. 3 from time_s on, held until the next reading (before the first:
+  // the calibration's). Throws core::InvalidInput on a non-finite value.
+  void set_ambient(double time_s, double ambient_c);
   // The last switch-on happened at time_s, before this tracker existed (a tracker restarted
   // on a new calibration keeps the scanner's warm-up clock).
   void set_last_switch_on(double time_s) { powered_since_s_ = time_s; }
@@ -60,6 +64,7 @@ class JunctionTracker {
 
  private:
   void advance_to(double time_s);
+  double ambient_c() const { return ambient_c_.value_or(calibration_.ambient_c); }
 
   core::Calibration calibration_;
   JunctionTrackerSettings settings_;
@@ -69,6 +74,7 @@ class JunctionTracker {
   double last_case_c_ = 0.0;
   bool power_on_ = true;
   double powered_since_s_ = 0.0;
+  std::optional<double> ambient_c_;
 };
 
 }  // namespace tofcomp::realtime

@@ -44,6 +44,7 @@ void replay_recording(const io::MeasurementTable& table, const std::string& sour
     }
     close_scan();
     if (row.power) pipeline.on_power(row.time_s, *row.power);
+    if (row.ambient_c) pipeline.on_ambient(row.time_s, *row.ambient_c);
     if (row.case_temp_c) pipeline.on_case_reading(row.time_s, *row.case_temp_c);
   }
   close_scan();

@@ -21,7 +21,7 @@ core::CovariatesAt covariates_at_scan(const core::Calibration& calibration, doub
   at.heating_rate_c_per_min = junction.heating_rate_c_per_min;
   at.time_since_power_on_s = junction.time_since_power_on_s;
   at.time_h = time_s / 3600.0;
-  at.ambient_c = calibration.ambient_c;
+  at.ambient_c = junction.valid ? junction.ambient_c : calibration.ambient_c;
   for (const JunctionLag& lag : lags) {
     at.junction_lag_c.emplace_back(lag.time_constant_s, lag.node_c - junction.junction_c);
   }

@@ -36,8 +36,10 @@ struct JunctionLag {
 };
 
 // The covariates of a scan at time_s (the pipeline's clock): the junction estimate's temperature,
-// heating rate and time since power-on, the hours since the clock's origin, the calibration's
-// ambient (the daemon has no ambient sensor) and the lags' nodes less the junction.
+// heating rate and time since power-on, the hours since the clock's origin, the ambient the
+// junction filter ran at (the last ambient reading, or the calibration's where none came: the
+// daemon has no ambient sensor, a replayed recording may log one) and the lags' nodes less the
+// junction.
 core::CovariatesAt covariates_at_scan(const core::Calibration& calibration, double time_s,
                                       const JunctionEstimate& junction,
                                       const std::vector<JunctionLag>& lags);

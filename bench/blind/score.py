@@ -2,9 +2,10 @@
 """Scores `tofcomp diagnose` on a blind suite made by generate.py.
 
 Usage: score.py --tofcomp PATH --suite DIR [--jobs J] [--timeout S] [--json OUT.json]
+                [--calibrations CDIR]
 
 For every DIR/data/<id>.csv that has a truth DIR/truth/<id>.json it runs
-    PATH diagnose DIR/data/<id>.csv --json -q
+    PATH diagnose DIR/data/<id>.csv --json -q [--calibration-output CDIR/<id>.yaml]
 (and, for a set with an effect, the same on its clean counterpart), reads only the output contract
     search.kept        list of {parameter, covariate, ...}, in the order the effects were added
     search.best        {parameter, covariate, ...} of the top-ranked candidate, or null
@@ -171,9 +172,12 @@ _live = set()
 _live_lock = threading.Lock()
 
 
-def run_detector(cmd, csv, timeout):
-    """Runs the detector on one file.  Returns {ok, result | reason, stderr_tail, seconds}."""
+def run_detector(cmd, csv, timeout, calibration=None):
+    """Runs the detector on one file, writing the calibration it keeps to `calibration` when
+    given.  Returns {ok, result | reason, stderr_tail, seconds}."""
     argv = cmd + ["diagnose", csv, "--json", "-q"]
+    if calibration:
+        argv += ["--calibration-output", calibration]
     t0 = time.time()
     try:
         proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -232,6 +236,9 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--timeout", type=float, default=900.0, help="seconds per run (default 900)")
     ap.add_argument("--json", default=None, help="write the results here")
+    ap.add_argument("--calibrations", default=None,
+                    help="also write each run's calibration here as <data file>.yaml, for "
+                         "replay_score.py (the daemon's path)")
     a = ap.parse_args(argv)
     if a.jobs < 1 or a.timeout <= 0:
         ap.error("--jobs must be >= 1 and --timeout > 0")
@@ -245,6 +252,8 @@ def main(argv=None):
         cmd[0] = os.path.abspath(exe)
     elif shutil.which(exe) is None:
         ap.error("--tofcomp %s is not found" % exe)
+    if a.calibrations:
+        os.makedirs(a.calibrations, exist_ok=True)
     tdir, ddir = os.path.join(a.suite, "truth"), os.path.join(a.suite, "data")
     if not os.path.isdir(tdir) or not os.path.isdir(ddir):
         ap.error("%s has no truth/ and data/" % a.suite)
@@ -280,7 +289,10 @@ def main(argv=None):
             r = {"ok": False, "reason": "file missing: %s" % csv, "stderr_tail": "", "seconds": 0.0,
                  "exit": None}
         else:
-            r = run_detector(cmd, csv, a.timeout)
+            calibration = (os.path.join(a.calibrations,
+                                        os.path.basename(csv)[:-len(".csv")] + ".yaml")
+                           if a.calibrations else None)
+            r = run_detector(cmd, csv, a.timeout, calibration)
         with lock:
             runs[(sid, which)] = r
             done[0] += 1

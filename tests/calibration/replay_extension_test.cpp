@@ -27,7 +27,9 @@ const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 
 // The twin's events as a tofcompd recording of one beam: power changes and case readings
 // before a range at the same time, as the daemon takes them.
-io::MeasurementTable recording_of(const MeasuredData& data) {
+// The record as tofcompd would have recorded it (one beam), with the data's logged ambient rows
+// where `with_ambient` (a recording from another logger; tofcompd's own log none).
+io::MeasurementTable recording_of(const MeasuredData& data, bool with_ambient = false) {
   io::MeasurementTable table;
   table.metadata = io::recording_metadata(1, 0.0, 1.0);
   table.columns = io::recording_columns();
@@ -43,6 +45,14 @@ io::MeasurementTable recording_of(const MeasuredData& data) {
     row.time_s = data.temperature_time_s[k];
     row.case_temp_c = data.case_c[k];
     events.emplace_back(row.time_s, 1, row);
+  }
+  if (with_ambient) {
+    for (const auto& [time_s, ambient_c] : data.ambient) {
+      io::MeasurementRow row;
+      row.time_s = time_s;
+      row.ambient_c = ambient_c;
+      events.emplace_back(time_s, 1, row);
+    }
   }
   for (Eigen::Index k = 0; k < data.range_mm.size(); ++k) {
     io::MeasurementRow row;
@@ -164,6 +174,39 @@ TEST(ReplayAtTheLoggedAmbient, TheCalibrationCarriesTheAmbientItsDataLogged) {
   std::printf("window MAE %.4f mm at the logged ambient, %.4f mm at the fallback's %.0f °C\n",
               logged, fallback, settings.thermal.ambient_fallback_c);
   EXPECT_LT(logged, 0.5 * fallback);
+}
+
+// A recording that logs the ambient gives the daemon's path the room itself: the junction filter
+// runs at each reading (and an ambient term reads it), so the calibration's ambient no longer
+// matters. The twin in a 28 °C room, its calibration's ambient set to the 22 °C fallback: at the
+// calibration's ambient the filter's junction stands R1 / R2 × 6 K off (the test above); read
+// from the recording, the room is right.
+TEST(ReplayAtTheLoggedAmbient, ARecordingThatLogsTheAmbientGivesTheFilterTheRoom) {
+  constexpr double kRoomC = 28.0;
+  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+  scenario.seed = 11;
+  scenario.ambient.base_c = kRoomC;
+  const MeasuredData data = test::twin_measured_data(scenario);
+  TrainSettings settings;
+  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.basis = "polynomial:4";
+  settings.modes = 2;
+  const double split = split_time(data, 0.5);
+  const Training trained = train_calibration(data.slice(-1e300, split), settings);
+  core::Calibration at_fallback = trained.calibration;
+  at_fallback.ambient_c = settings.thermal.ambient_fallback_c;
+
+  const io::MeasurementTable unlogged = recording_of(data);
+  const io::MeasurementTable logged = recording_of(data, true);
+  const double calibration_room = window_error(trained.calibration, unlogged, data, split, nullptr);
+  const double fallback_room = window_error(at_fallback, unlogged, data, split, nullptr);
+  const double read_room = window_error(at_fallback, logged, data, split, nullptr);
+  std::printf(
+      "window MAE %.4f mm at the fallback's %.0f °C, %.4f mm at the room read from the "
+      "recording, %.4f mm at the calibration's own\n",
+      fallback_room, settings.thermal.ambient_fallback_c, read_room, calibration_room);
+  EXPECT_LT(read_room, 0.5 * fallback_room);
+  EXPECT_NEAR(read_room, calibration_room, 0.2 * calibration_room);
 }
 
 }  // namespace

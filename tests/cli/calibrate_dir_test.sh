@@ -5,7 +5,8 @@
 # row in name order, the broken one failed with its file named and the others went on (exit
 # status 1); the drift's calibration carries the time drift and the clean one's nothing (the
 # twin's truth); each calibration is the one `tofcomp diagnose --calibration-output` (or
-# `tofcomp train`) writes for that recording alone, and -j 1 writes what -j 2 writes; progress
+# `tofcomp train`) writes for that recording alone (diagnose writes train's where nothing is
+# kept), and -j 1 writes what -j 2 writes; progress
 # on stderr names every recording; then the errors met before any work.
 set -euo pipefail
 tofcomp=$1
@@ -60,6 +61,14 @@ diff <(without_time "$work/alone-a.yaml") <(without_time "$work/out2/scanner-a.y
   fail "scanner-a's calibration differs from diagnose --calibration-output's"
 diff <(without_time "$work/alone-b.yaml") <(without_time "$work/out2/scanner-b.yaml") > /dev/null ||
   fail "scanner-b's calibration differs from train's"
+# The clean recording's search keeps nothing: diagnose still writes the calibration asked for,
+# the trained one (train's), and says so.
+"$tofcomp" -q diagnose "$work/fleet/scanner-b.csv" --calibration-output "$work/diagnosed-b.yaml" \
+  > "$work/diagnosed-b.txt"
+grep -q "the search kept nothing: the trained calibration (the paper's model) written to $work/diagnosed-b.yaml" \
+  "$work/diagnosed-b.txt" || fail "diagnose does not say it wrote the trained calibration"
+diff <(without_time "$work/diagnosed-b.yaml") <(without_time "$work/alone-b.yaml") > /dev/null ||
+  fail "diagnose --calibration-output on a record where nothing is kept differs from train's"
 
 # One at a time: the same files.
 "$tofcomp" -q calibrate-dir "$work/fleet" -o "$work/out1" -j 1 > "$work/table.txt" || true

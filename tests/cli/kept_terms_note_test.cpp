@@ -1,5 +1,6 @@
 // What `tofcomp diagnose` says about the calibration with the terms its search kept
-// (cli/kept_terms_note.hpp): without --calibration-output it says it was not written, and how.
+// (cli/kept_terms_note.hpp): without --calibration-output it says it was not written, and how;
+// with it and nothing kept, that the trained calibration was written.
 #include "cli/kept_terms_note.hpp"
 
 #include <gtest/gtest.h>
@@ -18,9 +19,14 @@ TEST(KeptTermsNote, KeptWithAnOutputNamesTheFile) {
             "calibration with the kept terms written to out/c.yaml\n");
 }
 
-TEST(KeptTermsNote, NothingKeptSaysNothing) {
+TEST(KeptTermsNote, NothingKeptWithoutAnOutputSaysNothing) {
   EXPECT_EQ(kept_terms_note(false, ""), "");
-  EXPECT_EQ(kept_terms_note(false, "out/c.yaml"), "");
+}
+
+TEST(KeptTermsNote, NothingKeptWithAnOutputSaysTheTrainedCalibrationWentThere) {
+  EXPECT_EQ(kept_terms_note(false, "out/c.yaml"),
+            "the search kept nothing: the trained calibration (the paper's model) written to "
+            "out/c.yaml\n");
 }
 
 }  // namespace

@@ -40,6 +40,26 @@ TEST(JunctionTracker, PowerOffSettlesOnTheCase) {
   EXPECT_LT(after, 27.5);
 }
 
+// An ambient reading moves Eq. 3's t^a: with no case reading after the first, the prediction
+// settles where the model puts the scanner in that room (the case P·R2 = 12 K above it, the
+// junction P·R1 = 6 K above the case); without one, the calibration's 22 °C stands.
+TEST(JunctionTracker, AnAmbientReadingIsTheRoomTheModelSettlesIn) {
+  JunctionTracker at_calibration(testing::round_calibration());
+  JunctionTracker at_reading(testing::round_calibration());
+  for (JunctionTracker* t : {&at_calibration, &at_reading}) t->add_case_reading(0.0, 34.0);
+  EXPECT_DOUBLE_EQ(at_reading.at(0.0).ambient_c, 22.0);
+  at_reading.set_ambient(0.0, 30.0);
+  // 20 case time constants of 64 s with no reading: the prediction alone.
+  const JunctionEstimate calibration_room = at_calibration.at(1280.0);
+  const JunctionEstimate read_room = at_reading.at(1280.0);
+  EXPECT_NEAR(calibration_room.junction_c, 22.0 + 12.0 + 6.0, 0.05);
+  EXPECT_NEAR(read_room.junction_c, 30.0 + 12.0 + 6.0, 0.05);
+  EXPECT_DOUBLE_EQ(calibration_room.ambient_c, 22.0);
+  EXPECT_DOUBLE_EQ(read_room.ambient_c, 30.0);
+  EXPECT_THROW(at_reading.set_ambient(1.0, NAN), core::InvalidInput);
+  EXPECT_DOUBLE_EQ(at_reading.at(1280.0).ambient_c, 30.0);  // the refused reading changed nothing
+}
+
 TEST(JunctionTracker, StaleAfterTheConfiguredSilence) {
   JunctionTrackerSettings settings;
   settings.stale_after_s = 5.0;
