@@ -145,66 +145,68 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"effect-warm-up", {core::Parameter::Bias, core::Covariate::TimeSincePowerOn}, 1.8},
         Case{"effect-mode-persistence", {core::Parameter::Markov, core::Covariate::None}, 1.1}));
 
+// The twin in a 28 °C room (seed 11), trained on its first half as `tofcomp train` trains (the
+// filter's noise levels fitted to the case log: the smaller they are, the more the filter's
+// junction follows the model at its ambient).
+struct WarmRoom {
+  static constexpr double kRoomC = 28.0;
+  MeasuredData data;
+  double split = 0.0;
+  Training trained;
+  core::Calibration at_fallback;  // the trained calibration at the 22 °C fallback's ambient
+  double fallback_c = 0.0;
+
+  WarmRoom() {
+    sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+    scenario.seed = 11;
+    scenario.ambient.base_c = kRoomC;
+    data = test::twin_measured_data(scenario);
+    TrainSettings settings;
+    settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+    settings.basis = "polynomial:4";
+    settings.modes = 2;
+    split = split_time(data, 0.5);
+    trained = train_calibration(data.slice(-1e300, split), settings);
+    fallback_c = settings.thermal.ambient_fallback_c;
+    at_fallback = trained.calibration;
+    at_fallback.ambient_c = fallback_c;
+  }
+};
+
 // A calibration trained on data logged in a warm room carries that room's ambient (the median
 // the data logged at their ranges), so the daemon's path, which has no ambient sensor, runs its
 // junction filter at it: trained at the fallback of 22 °C instead, the filter's junction stands
 // R1 / R2 × 6 K off and d̂ with it (window MAE 0.055 mm against 0.435 mm when written).
 TEST(ReplayAtTheLoggedAmbient, TheCalibrationCarriesTheAmbientItsDataLogged) {
-  constexpr double kRoomC = 28.0;
-  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
-  scenario.seed = 11;
-  scenario.ambient.base_c = kRoomC;
-  const MeasuredData data = test::twin_measured_data(scenario);
-  ASSERT_FALSE(data.ambient.empty());
-  TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
-  settings.basis = "polynomial:4";
-  settings.modes = 2;
-  // The filter's noise levels fitted to the case log, as `tofcomp train` fits them: the
-  // smaller they are, the more the filter's junction follows the model at its ambient.
-  const double split = split_time(data, 0.5);
-  const Training trained = train_calibration(data.slice(-1e300, split), settings);
-  EXPECT_NEAR(trained.calibration.ambient_c, kRoomC, 0.1);
-
-  const io::MeasurementTable recording = recording_of(data);
-  core::Calibration at_fallback = trained.calibration;
-  at_fallback.ambient_c = settings.thermal.ambient_fallback_c;
-  const double logged = window_error(trained.calibration, recording, data, split, nullptr);
-  const double fallback = window_error(at_fallback, recording, data, split, nullptr);
+  const WarmRoom room;
+  ASSERT_FALSE(room.data.ambient.empty());
+  EXPECT_NEAR(room.trained.calibration.ambient_c, WarmRoom::kRoomC, 0.1);
+  const io::MeasurementTable recording = recording_of(room.data);
+  const double logged =
+      window_error(room.trained.calibration, recording, room.data, room.split, nullptr);
+  const double fallback = window_error(room.at_fallback, recording, room.data, room.split, nullptr);
   std::printf("window MAE %.4f mm at the logged ambient, %.4f mm at the fallback's %.0f °C\n",
-              logged, fallback, settings.thermal.ambient_fallback_c);
+              logged, fallback, room.fallback_c);
   EXPECT_LT(logged, 0.5 * fallback);
 }
 
 // A recording that logs the ambient gives the daemon's path the room itself: the junction filter
 // runs at each reading (and an ambient term reads it), so the calibration's ambient no longer
-// matters. The twin in a 28 °C room, its calibration's ambient set to the 22 °C fallback: at the
-// calibration's ambient the filter's junction stands R1 / R2 × 6 K off (the test above); read
-// from the recording, the room is right.
+// matters. The calibration's ambient set to the 22 °C fallback: at it the filter's junction
+// stands R1 / R2 × 6 K off (the test above); read from the recording, the room is right.
 TEST(ReplayAtTheLoggedAmbient, ARecordingThatLogsTheAmbientGivesTheFilterTheRoom) {
-  constexpr double kRoomC = 28.0;
-  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
-  scenario.seed = 11;
-  scenario.ambient.base_c = kRoomC;
-  const MeasuredData data = test::twin_measured_data(scenario);
-  TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
-  settings.basis = "polynomial:4";
-  settings.modes = 2;
-  const double split = split_time(data, 0.5);
-  const Training trained = train_calibration(data.slice(-1e300, split), settings);
-  core::Calibration at_fallback = trained.calibration;
-  at_fallback.ambient_c = settings.thermal.ambient_fallback_c;
-
-  const io::MeasurementTable unlogged = recording_of(data);
-  const io::MeasurementTable logged = recording_of(data, true);
-  const double calibration_room = window_error(trained.calibration, unlogged, data, split, nullptr);
-  const double fallback_room = window_error(at_fallback, unlogged, data, split, nullptr);
-  const double read_room = window_error(at_fallback, logged, data, split, nullptr);
+  const WarmRoom room;
+  const io::MeasurementTable unlogged = recording_of(room.data);
+  const io::MeasurementTable logged = recording_of(room.data, true);
+  const double calibration_room =
+      window_error(room.trained.calibration, unlogged, room.data, room.split, nullptr);
+  const double fallback_room =
+      window_error(room.at_fallback, unlogged, room.data, room.split, nullptr);
+  const double read_room = window_error(room.at_fallback, logged, room.data, room.split, nullptr);
   std::printf(
       "window MAE %.4f mm at the fallback's %.0f °C, %.4f mm at the room read from the "
       "recording, %.4f mm at the calibration's own\n",
-      fallback_room, settings.thermal.ambient_fallback_c, read_room, calibration_room);
+      fallback_room, room.fallback_c, read_room, calibration_room);
   EXPECT_LT(read_room, 0.5 * fallback_room);
   EXPECT_NEAR(read_room, calibration_room, 0.2 * calibration_room);
 }
