@@ -43,7 +43,9 @@ void CompensationPipeline::set_settings(const PipelineSettings& settings) {
 
 void CompensationPipeline::on_case_reading(double time_s, double case_c) {
   last_reading_ = {time_s, case_c};
-  if (tracker_) tracker_->add_case_reading(time_s, case_c);
+  if (!tracker_) return;
+  tracker_->add_case_reading(time_s, case_c);
+  compensator_.advance_lags(time_s, tracker_->at(time_s));
 }
 
 void CompensationPipeline::on_power(double time_s, bool on) {

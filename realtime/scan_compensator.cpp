@@ -33,12 +33,22 @@ void JunctionLag::update(double time_s, double junction_c) {
     node_c = junction_c;
     started = true;
   } else if (time_s > last_time_s) {
-    node_c = junction_c + std::exp(-(time_s - last_time_s) / time_constant_s) * (node_c - junction_c);
+    // core::first_order_lag's step: the junction taken as the mean of the step's two ends.
+    const double input = 0.5 * (junction_c + last_junction_c);
+    node_c = input + std::exp(-(time_s - last_time_s) / time_constant_s) * (node_c - input);
+  } else {
+    return;  // a late estimate: the node has moved past it
   }
-  last_time_s = std::max(last_time_s, time_s);
+  last_time_s = time_s;
+  last_junction_c = junction_c;
 }
 
 ScanCompensator::ScanCompensator(core::SlidingWindowOptions window) : window_options_(window) {}
+
+void ScanCompensator::advance_lags(double time_s, const JunctionEstimate& junction) {
+  if (!junction.valid) return;
+  for (JunctionLag& lag : lags_) lag.update(time_s, junction.junction_c);
+}
 
 void ScanCompensator::set_calibration(std::shared_ptr<const core::Calibration> calibration,
                                       std::uint32_t id) {

@@ -26,11 +26,16 @@
 namespace tofcomp::realtime {
 
 // The node of a junction lag (core/covariate_table.hpp) in real time: a first-order low-pass of
-// the junction estimate, scan by scan, starting at the first scan's junction temperature.
+// the junction estimate, starting at the first estimate, with core::first_order_lag's step. It
+// is advanced at every scan and at every case reading (ScanCompensator::advance_lags), so it
+// follows the junction through a power-off gap, where there are no scans, as the offline
+// history does; advanced at the scans alone it jumped a gap at the junction of the first scan
+// after it, as if the junction had stood there throughout.
 struct JunctionLag {
   double time_constant_s = 0.0;
   double node_c = 0.0;
   double last_time_s = 0.0;
+  double last_junction_c = 0.0;
   bool started = false;
   void update(double time_s, double junction_c);
 };
@@ -61,6 +66,8 @@ class ScanCompensator {
   // differ in length or a range with an echo is not finite.
   ipc::CompensatedScan compensate(const RawScan& scan, const JunctionEstimate& junction,
                                   std::uint64_t sequence);
+  // The junction estimate between scans (at a case reading): the lags' nodes follow it.
+  void advance_lags(double time_s, const JunctionEstimate& junction);
 
  private:
   void rebuild_windows(std::size_t beams);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/covariate_table.hpp"
 #include "core/error.hpp"
 #include "tests/realtime/realtime_examples.hpp"
 #include "tests/support/extensions.hpp"
@@ -18,6 +19,38 @@ JunctionEstimate junction_at(double t) {
   j.junction_std_c = 0.1;
   j.case_c = t - 6.0;
   return j;
+}
+
+// The daemon's lag node is the offline one (core::first_order_lag) on the same estimates: the
+// junction at 40 °C while on, cooling to 25 °C over a 30-minute power-off gap read once a minute
+// (no scans then), and back up after. Advanced at the scans alone it would jump the gap at the
+// junction after it: here 6.4 K above where the gap's readings put it.
+TEST(JunctionLag, FollowsTheJunctionThroughAGapAsTheOfflineLagDoes) {
+  constexpr double kTau = 600.0;
+  Eigen::VectorXd time_s(121), junction_c(121);
+  for (Eigen::Index k = 0; k < time_s.size(); ++k) {
+    time_s[k] = 60.0 * static_cast<double>(k);
+    const double off_since_s = time_s[k] - 1800.0;  // the power off from 1800 s to 3600 s
+    junction_c[k] = time_s[k] < 1800.0   ? 40.0
+                    : time_s[k] < 3600.0 ? 25.0 + 15.0 * std::exp(-off_since_s / 300.0)
+                                         : 40.0 - 15.0 * std::exp(-(time_s[k] - 3600.0) / 120.0);
+  }
+  const Eigen::VectorXd offline = core::first_order_lag(time_s, junction_c, kTau);
+  JunctionLag every_reading{kTau};
+  for (Eigen::Index k = 0; k < time_s.size(); ++k) {
+    every_reading.update(time_s[k], junction_c[k]);
+    EXPECT_NEAR(every_reading.node_c, offline[k], 1e-12) << "at " << time_s[k] << " s";
+  }
+  const Eigen::Index first_after_gap = 60;  // 3600 s
+  JunctionLag jumped{kTau};
+  for (Eigen::Index k = 0; k <= first_after_gap; ++k) {
+    if (time_s[k] <= 1800.0 || k == first_after_gap) jumped.update(time_s[k], junction_c[k]);
+  }
+  EXPECT_GT(jumped.node_c - offline[first_after_gap], 5.0);
+  // A late estimate (older than the node) is not taken.
+  const double node = every_reading.node_c;
+  every_reading.update(10.0, 0.0);
+  EXPECT_DOUBLE_EQ(every_reading.node_c, node);
 }
 
 core::SlidingWindowOptions incremental() {
