@@ -1,8 +1,11 @@
 #include "io/recording_format.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -13,6 +16,23 @@ std::string shortest(double value) {
   char buffer[32];
   const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, r.ptr);
+}
+
+// Measured data with no geometry lines: as many beams as its rows name, the angles unknown.
+RecordingGeometry geometry_of_rows(const MeasurementTable& table, const std::string& source) {
+  constexpr double kUnknownAngle = std::numeric_limits<double>::quiet_NaN();
+  std::size_t beams = 1;
+  for (const MeasurementRow& row : table.rows) {
+    if (!row.range_mm) continue;
+    const int beam = row.beam.value_or(0);
+    if (beam < 0 || static_cast<std::size_t>(beam) >= kMaxRecordingBeams) {
+      throw core::InvalidInput(source + ":" + std::to_string(row.line) + ": beam " +
+                               std::to_string(beam) + " outside 0.." +
+                               std::to_string(kMaxRecordingBeams - 1));
+    }
+    beams = std::max(beams, static_cast<std::size_t>(beam) + 1);
+  }
+  return {beams, kUnknownAngle, kUnknownAngle};
 }
 
 }  // namespace
@@ -35,14 +55,24 @@ RecordingGeometry read_recording_geometry(const MeasurementTable& table,
     }
     *target = value;
   }
+  if (!beams && !start && !resolution) return geometry_of_rows(table, source);
   if (!beams || !start || !resolution) {
-    throw core::InvalidInput(source + ": not a tofcompd recording: the metadata lines '# " +
+    std::string missing;
+    for (const auto& [line, key] :
+         {std::pair{beams, kRecordingBeamsKey}, std::pair{start, kRecordingStartAngleKey},
+          std::pair{resolution, kRecordingResolutionKey}}) {
+      if (!line) missing += std::string(missing.empty() ? "" : ", ") + "'# " + key + "'";
+    }
+    throw core::InvalidInput(source + ": an incomplete recording geometry: the metadata lines '# " +
                              kRecordingBeamsKey + "', '# " + kRecordingStartAngleKey + "' and '# " +
-                             kRecordingResolutionKey + "' are required");
+                             kRecordingResolutionKey + "' go together (missing " + missing +
+                             "); measured data has none of them");
   }
-  if (*beams < 1 || *beams > 65535 || *beams != std::floor(*beams)) {
+  if (*beams < 1 || *beams > static_cast<double>(kMaxRecordingBeams) ||
+      *beams != std::floor(*beams)) {
     throw core::InvalidInput(source + ": metadata '" + kRecordingBeamsKey +
-                             "' must be a whole number of beams from 1");
+                             "' must be a whole number of beams from 1 to " +
+                             std::to_string(kMaxRecordingBeams));
   }
   return {static_cast<std::size_t>(*beams), *start, *resolution};
 }

@@ -20,15 +20,24 @@ inline constexpr const char* kRecordingBeamsKey = "beams";
 inline constexpr const char* kRecordingStartAngleKey = "start_angle_deg";
 inline constexpr const char* kRecordingResolutionKey = "resolution_deg";
 
+// The most beams a recording may declare or a file's beam column may reach.
+inline constexpr std::size_t kMaxRecordingBeams = 65535;
+
 // A recording's scan geometry, from its metadata lines.
 struct RecordingGeometry {
   std::size_t beams = 0;
+  // NaN when the file does not give them: measured data from another logger carries beam
+  // indices, not angles, and an angle made up here would be published as if measured.
   double start_angle_deg = 0.0;
   double resolution_deg = 0.0;
 };
 
-// Throws core::InvalidInput naming `source` when a geometry line is missing or not a number, or
-// `beams` is not a whole number from 1 to 65535.
+// The geometry of a tofcompd recording from its three metadata lines. A file with none of them
+// is measured data in the interchange CSV (a user's own logger, `tofcomp simulate`): its beams
+// are those its rows name (the highest `beam` + 1, beam 0 where the column is absent) and its
+// angles unknown (NaN). Throws core::InvalidInput naming `source` when only some of the lines
+// are there or one is not a number, when `beams` is not a whole number from 1 to
+// kMaxRecordingBeams, or when a row's beam is beyond that limit.
 RecordingGeometry read_recording_geometry(const MeasurementTable& table, const std::string& source);
 
 // The columns and metadata of a recording of scans of this geometry.

@@ -21,7 +21,17 @@ void replay_recording(const io::MeasurementTable& table, const std::string& sour
   };
   for (const io::MeasurementRow& row : table.rows) {
     if (row.range_mm) {
-      if (open && row.time_s != scan.time_s) close_scan();
+      const int beam = row.beam.value_or(0);
+      if (beam < 0 || static_cast<std::size_t>(beam) >= geometry.beams) {
+        throw core::InvalidInput(source + ":" + std::to_string(row.line) + ": beam " +
+                                 std::to_string(beam) + " outside the recording's " +
+                                 std::to_string(geometry.beams) + " beams");
+      }
+      // A scan is the rows of one time_s. Measured data may hold a beam twice at one time
+      // (ties are allowed); the second range is a scan of its own, not written over the first.
+      if (open && (row.time_s != scan.time_s || !scan.no_echo[static_cast<std::size_t>(beam)])) {
+        close_scan();
+      }
       if (!open) {
         scan = RawScan{};
         scan.device_sequence = scans++;
@@ -31,12 +41,6 @@ void replay_recording(const io::MeasurementTable& table, const std::string& sour
         scan.ranges_mm.assign(geometry.beams, 0.0);
         scan.no_echo.assign(geometry.beams, 1);
         open = true;
-      }
-      const int beam = row.beam.value_or(0);
-      if (beam < 0 || static_cast<std::size_t>(beam) >= geometry.beams) {
-        throw core::InvalidInput(source + ":" + std::to_string(row.line) + ": beam " +
-                                 std::to_string(beam) + " outside the recording's " +
-                                 std::to_string(geometry.beams) + " beams");
       }
       scan.ranges_mm[static_cast<std::size_t>(beam)] = *row.range_mm;
       scan.no_echo[static_cast<std::size_t>(beam)] = 0;

@@ -15,8 +15,11 @@
 namespace tofcomp::realtime {
 
 // Feeds a recording's events to `pipeline` in file order and hands each compensated scan to
-// `on_scan`. Throws io::MeasuredDataFileError-style core::Error naming the source and line for
-// a recording without its geometry or with a beam outside it.
+// `on_scan`: a scan is the range rows of one time_s, one per beam (a beam met again at the same
+// time starts the next scan). A tofcompd recording gives its geometry in metadata lines; measured
+// data without them replays with the beams its rows name and unknown (NaN) angles
+// (io::read_recording_geometry). Throws core::InvalidInput naming the source and line for an
+// incomplete geometry or a beam outside it.
 void replay_recording(const io::MeasurementTable& table, const std::string& source,
                       CompensationPipeline& pipeline,
                       const std::function<void(const ipc::CompensatedScan&)>& on_scan);

@@ -10,7 +10,7 @@ junction filter, Eq. 3's heating rate at the filter's state, an ambient term as 
 of the calibration's ambient, the incremental window.  The two can rank calibrations apart
 (docs/closing-the-loop.md, section 5.5).  This script takes the calibrations score.py wrote
 (`score.py --calibrations CDIR`: CDIR/<data file>.yaml for every set and counterpart), runs
-    PATH replay <the set as a one-beam recording> --config <the daemon's default, at CDIR's
+    PATH replay <the set, as measured data> --config <the daemon's default, at CDIR's
                 calibration and window W> -o <replayed>
 and scores the window's d-hat (column 6) against the data's own true_range_mm, every range the
 window published an estimate for.
@@ -35,8 +35,6 @@ from concurrent.futures import ThreadPoolExecutor
 
 SEP = "\u00d7"  # ×, as score.py labels effects
 RATIO_OK = 1.25
-# The geometry a one-beam recording declares (docs/daemon.md, "Recording and replay").
-RECORDING_HEADER = "# beams: 1\n# start_angle_deg: 0\n# resolution_deg: 1\n"
 WINDOW_COLUMN = 5  # sequence, beam, flags, raw, compensated, window, window std, mode
 REPLAY_TIMEOUT_S = 600.0
 
@@ -78,15 +76,11 @@ def replay_mae(a, data_csv, calibration):
     """The mean absolute error of the daemon's window d-hat over every range of `data_csv`."""
     truth = true_ranges(data_csv)
     with tempfile.TemporaryDirectory() as tmp:
-        recording = os.path.join(tmp, "recording.csv")
-        with open(data_csv) as src, open(recording, "w") as dst:
-            dst.write(RECORDING_HEADER)
-            dst.write(src.read())
         config = os.path.join(tmp, "tofcompd.yaml")
         with open(config, "w") as f:
             f.write(daemon_config(a.tofcompd, os.path.abspath(calibration), a.window))
         replayed = os.path.join(tmp, "replayed.csv")
-        proc = subprocess.run([a.tofcomp, "replay", recording, "--config", config, "-o",
+        proc = subprocess.run([a.tofcomp, "replay", data_csv, "--config", config, "-o",
                                replayed], capture_output=True, text=True,
                               timeout=REPLAY_TIMEOUT_S)
         if proc.returncode != 0:

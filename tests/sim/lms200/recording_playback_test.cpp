@@ -183,6 +183,17 @@ TEST(RecordingPlayback, PlayedEventsKeepTheirOrderAroundTheScans) {
   EXPECT_TRUE(playback.finished());
 }
 
+// Measured data with no geometry lines (another logger's, or the twin's CSV) plays with the
+// beams its rows name: the highest beam index + 1.
+TEST(RecordingPlayback, MeasuredDataWithoutGeometryHasTheBeamsItsRowsName) {
+  io::MeasurementTable no_geometry = recording();
+  no_geometry.metadata.clear();
+  EXPECT_EQ(RecordingPlayback(no_geometry, "measured.csv").beams(), kBeams);
+  io::MeasurementTable fewer = recording(kBeams - 2);
+  fewer.metadata.clear();
+  EXPECT_EQ(RecordingPlayback(fewer, "measured.csv").beams(), kBeams - 2);
+}
+
 TEST(RecordingPlayback, BadRecordingsAreRefusedNamingWhereAndWhat) {
   const auto message_of = [](const io::MeasurementTable& table) {
     try {
@@ -200,10 +211,13 @@ TEST(RecordingPlayback, BadRecordingsAreRefusedNamingWhereAndWhat) {
   EXPECT_NE(beam_outside.find("bad.csv:7"), std::string::npos) << beam_outside;
   EXPECT_NE(beam_outside.find("beam 361"), std::string::npos) << beam_outside;
 
-  io::MeasurementTable no_geometry = recording();
-  no_geometry.metadata.clear();
-  EXPECT_NE(message_of(no_geometry).find("bad.csv"), std::string::npos);
-  EXPECT_NE(message_of(no_geometry).find("beams"), std::string::npos);
+  // Some of the geometry lines but not all: a damaged header, not measured data.
+  io::MeasurementTable part_geometry = recording();
+  std::erase_if(part_geometry.metadata,
+                [](const io::MetadataLine& m) { return m.key == io::kRecordingResolutionKey; });
+  const std::string part = message_of(part_geometry);
+  EXPECT_NE(part.find("bad.csv: an incomplete recording geometry"), std::string::npos) << part;
+  EXPECT_NE(part.find("missing '# resolution_deg'"), std::string::npos) << part;
 
   io::MeasurementTable no_scan = recording();
   std::erase_if(no_scan.rows, [](const io::MeasurementRow& r) { return r.range_mm.has_value(); });
