@@ -9,6 +9,7 @@
 #include "io/bundled_datasheet.hpp"
 #include "io/datasheet_file.hpp"
 #include "io/measured_data_csv.hpp"
+#include "ipc/ring/ring_writer.hpp"
 #include "settings/daemon_config_adapters.hpp"
 #include "settings/pipeline_setup.hpp"
 
@@ -37,11 +38,25 @@ void read_measured_data(const std::filesystem::path& file, std::uint64_t max_byt
   io::read_measured_data_file(file);
 }
 
+// The ring as the daemon makes it (daemon/scan_outputs.cpp), within its limits and the shared
+// memory there is: one that is not would fail the daemon's start.
+void check_ring(const settings::DaemonConfig& config) {
+  try {
+    ipc::ring::check_ring_fits(config.outputs.shm.name,
+                               static_cast<std::uint32_t>(config.outputs.shm.slots),
+                               ipc::ring::kDefaultMaxBeams);
+  } catch (const core::Error& e) {
+    throw core::Error(config.source + ": outputs.shm.slots " +
+                      std::to_string(config.outputs.shm.slots) + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 std::string check_configuration(const settings::DaemonConfig& config) {
   std::string loaded;
   const auto note = [&](const std::string& what) { loaded += "; " + what; };
+  check_ring(config);
   const settings::RecalibrationConfig& recal = config.recalibration;
   const std::uint64_t recording_cap = recal.limits.recording_mib * kMib;
 

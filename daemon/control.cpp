@@ -93,7 +93,8 @@ nlohmann::json Control::stats() {
                       {"extension", extension_in_use(modules_.inputs.calibration())}};
   if (const Recorder* recorder = modules_.recordings.configured()) {
     const auto& r = recorder->counters();
-    s["recording"] = {{"rows", r.rows}, {"files", r.files}, {"scans", r.scans}};
+    s["recording"] = {
+        {"rows", r.rows}, {"files", r.files}, {"scans", r.scans}, {"scans_lost", r.scans_lost}};
   }
   if (const auto e = modules_.link.device_counters()) {
     s["emulator"] = {{"scans_sent", e->scans_sent},

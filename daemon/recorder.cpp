@@ -1,9 +1,13 @@
 #include "daemon/recorder.hpp"
 
+#include <unistd.h>
+
+#include <cstring>
 #include <ctime>
 #include <system_error>
 
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 #include "io/recording_format.hpp"
 
 namespace tofcomp::daemon {
@@ -18,6 +22,10 @@ std::string utc_stamp() {
   return text;
 }
 
+// Names tried for a rotation's file in one second before giving up: tofcompd-STAMP.csv, then
+// tofcompd-STAMP-1.csv and on (taken names are skipped, whatever holds them).
+constexpr int kMaxNamesPerStamp = 1000;
+
 }  // namespace
 
 Recorder::Recorder(RecorderSettings settings) : settings_(std::move(settings)) {
@@ -30,12 +38,56 @@ Recorder::Recorder(RecorderSettings settings) : settings_(std::move(settings)) {
 }
 
 Recorder::~Recorder() {
-  if (out_) out_->flush();
+  try {
+    close_file();
+  } catch (const core::Error&) {  // a destructor does not throw; the rows were counted as lost
+  }
+}
+
+void Recorder::close_file() {
+  if (fd_ < 0) return;
+  writer_.reset();
+  struct Release {  // the descriptor is closed whether or not the last flush failed
+    Recorder& r;
+    ~Release() {
+      ::close(std::exchange(r.fd_, -1));
+      r.out_.reset();
+      r.buffer_.reset();
+    }
+  } release{*this};
+  flush_whole();
+}
+
+void Recorder::flush_whole() {
+  out_->flush();
+  if (buffer_->error() == 0) {
+    whole_bytes_ = buffer_->written();
+    return;
+  }
+  const int error = buffer_->error();
+  // The file ends on its last whole scan, so that it still reads (a cut row would not).
+  const bool cut = ::ftruncate(fd_, static_cast<off_t>(whole_bytes_)) == 0;
+  throw core::Error("recording: cannot write " + current_path_.string() + ": " +
+                    std::strerror(error) +
+                    (cut ? "; the file ends at its last whole scan" : ""));
+}
+
+void Recorder::abandon_file() {
+  writer_.reset();
+  out_.reset();
+  buffer_.reset();
+  if (fd_ >= 0) ::close(std::exchange(fd_, -1));
+  if (whole_bytes_ == 0 && !current_path_.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(current_path_, ignored);
+  }
 }
 
 void Recorder::write(const io::MeasurementRow& row) {
   if (!writer_) {
-    before_first_scan_.push_back(row);
+    // Before the first file, kept for it; while suspended, the state is kept (last_reading_,
+    // power_on_) and the row is not recorded.
+    if (counters_.files == 0) before_first_scan_.push_back(row);
     return;
   }
   writer_->write_row(row);
@@ -61,27 +113,35 @@ bool Recorder::rotation_due() const {
 }
 
 void Recorder::open_file(const realtime::RawScan& first) {
-  if (out_) out_->flush();
-  writer_.reset();
-  out_.reset();
+  close_file();
   std::filesystem::path path = settings_.directory / settings_.file_name;
-  if (settings_.file_name.empty()) {
-    path = settings_.directory / ("tofcompd-" + utc_stamp() + ".csv");
-    for (int n = 1; std::filesystem::exists(path); ++n) {
-      path = settings_.directory / ("tofcompd-" + utc_stamp() + "-" + std::to_string(n) + ".csv");
+  int fd = -1;
+  if (!settings_.file_name.empty()) {
+    fd = io::replace_with_new_file(path);
+  } else {
+    const std::string stamp = utc_stamp();
+    for (int n = 0; fd < 0; ++n) {
+      if (n == kMaxNamesPerStamp) {
+        throw core::Error("recording: " + std::to_string(kMaxNamesPerStamp) + " names tofcompd-" +
+                          stamp + "*.csv are taken in " + settings_.directory.string());
+      }
+      path = settings_.directory /
+             ("tofcompd-" + stamp + (n == 0 ? "" : "-" + std::to_string(n)) + ".csv");
+      if (const auto created = io::create_new_file(path)) fd = *created;
     }
   }
+  fd_ = fd;
+  buffer_ = std::make_unique<io::DescriptorBuffer>(fd_);
+  out_ = std::make_unique<std::ostream>(buffer_.get());
+  whole_bytes_ = 0;
+  current_path_ = path;
   std::vector<std::string> columns = io::recording_columns();
   if (settings_.true_range_mm) columns.emplace_back("true_range_mm");
-  auto out = std::make_unique<std::ofstream>(path, std::ios::binary);
-  if (!*out) throw core::Error("recording: cannot create " + path.string());
   const bool first_file = counters_.files == 0;
   writer_ = std::make_unique<io::MeasuredDataWriter>(
-      *out,
+      *out_,
       io::recording_metadata(first.ranges_mm.size(), first.start_angle_deg, first.resolution_deg),
       std::move(columns), path.string());
-  out_ = std::move(out);
-  current_path_ = path;
   opened_at_ = std::chrono::steady_clock::now();
   rows_in_file_ = 0;
   ++counters_.files;
@@ -95,22 +155,34 @@ void Recorder::open_file(const realtime::RawScan& first) {
     if (power_on_) write({.time_s = last_reading_->first, .power = *power_on_});
     write({.time_s = last_reading_->first, .case_temp_c = last_reading_->second});
   }
+  flush_whole();  // the header and the state: what a cut file keeps at the least
 }
 
 void Recorder::scan(const realtime::RawScan& scan) {
-  if (!writer_ || rotation_due()) open_file(scan);
-  std::vector<io::MeasurementRow> rows;
-  io::append_scan_rows(scan.time_s, scan.ranges_mm, scan.no_echo, rows);
-  for (auto& row : rows) {
-    if (settings_.beams &&
-        (*row.beam < settings_.beams->first || *row.beam > settings_.beams->second)) {
-      continue;
-    }
-    row.true_range_mm = settings_.true_range_mm;
-    write(row);
+  if (failed_at_s_ && scan.time_s - *failed_at_s_ < kRecorderRetryAfterS) {
+    ++counters_.scans_lost;
+    return;
   }
-  out_->flush();
-  if (!*out_) throw core::Error("recording: cannot write " + current_path_.string());
+  try {
+    if (!writer_ || rotation_due()) open_file(scan);
+    std::vector<io::MeasurementRow> rows;
+    io::append_scan_rows(scan.time_s, scan.ranges_mm, scan.no_echo, rows);
+    for (auto& row : rows) {
+      if (settings_.beams &&
+          (*row.beam < settings_.beams->first || *row.beam > settings_.beams->second)) {
+        continue;
+      }
+      row.true_range_mm = settings_.true_range_mm;
+      write(row);
+    }
+    flush_whole();
+  } catch (const core::Error&) {
+    failed_at_s_ = scan.time_s;
+    abandon_file();
+    ++counters_.scans_lost;
+    throw;
+  }
+  failed_at_s_.reset();
   ++counters_.scans;
 }
 

@@ -45,12 +45,17 @@ std::string Recordings::current_file() const {
 
 void Recordings::record(const std::function<void(Recorder&)>& write) {
   if (recorder_) {
+    const bool was_suspended = recorder_->suspended();
     try {
       write(*recorder_);
     } catch (const core::Error& e) {
+      // The recorder tries a new file after kRecorderRetryAfterS: one line per attempt.
       ++errors_;
-      spdlog::error("recording stopped: {}", e.what());
-      recorder_.reset();
+      spdlog::error("recording suspended: {}; a new file is tried in {:g} s", e.what(),
+                    kRecorderRetryAfterS);
+    }
+    if (was_suspended && !recorder_->suspended()) {
+      spdlog::info("recording resumed in {}", recorder_->current_file().string());
     }
   }
   if (run_recorder_) {

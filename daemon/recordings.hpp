@@ -1,8 +1,9 @@
 // The recordings of what the pipeline takes in (daemon/recorder.hpp): the configured one
 // (`recording`), and a calibration run's recording while the run records (§8.1,
 // daemon/power_cycle_run.hpp). Owns both recorders and the count of recording errors. Each row
-// goes to every recorder running; one that fails is stopped, and a run's failing is reported to
-// the run.
+// goes to every recorder running. The configured one that fails (a full disk) is suspended and
+// tries a new file after a while (daemon/recorder.hpp), each failure and the resumption logged;
+// a run's recording that fails is stopped and reported to the run.
 #pragma once
 
 #include <cstdint>

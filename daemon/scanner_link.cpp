@@ -42,8 +42,14 @@ ScannerLink::ScannerLink(boost::asio::io_context& io, const settings::DaemonConf
       device_(make_device(config, {handlers_.recorded_case_reading, handlers_.power})) {
   device_->start();
   if (device_->in_process()) spdlog::info("{} on {}", device_->describe(), device_->path());
+  hal::lms2xx::DriverSettings driver = settings::driver_settings(link_config_, device_->path());
+  // An emulated device makes a new pty at each hang-up: the driver asks which at each opening
+  // (a configuration without emulator.link has no stable path to give it).
+  if (device_->in_process()) {
+    driver.current_device = [device = device_.get()] { return device->path(); };
+  }
   driver_ = std::make_unique<hal::lms2xx::Lms2xxDriver>(
-      io, settings::driver_settings(link_config_, device_->path()),
+      io, std::move(driver),
       [this](const hal::lms2xx::HostScan& s) { on_scan(s); },
       [this](hal::lms2xx::LinkState state, const std::string& why) { on_state(state, why); });
 }

@@ -9,8 +9,10 @@
 #include <cstring>
 #include <streambuf>
 #include <string>
+#include <utility>
 
 #include "core/error.hpp"
+#include "io/descriptor_stream.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -19,54 +21,11 @@ namespace {
   throw core::Error(file.string() + ": " + what + ": " + std::strerror(error));
 }
 
-// 0 when all was written, otherwise the errno of the failure.
-int write_all(int fd, std::string_view data) {
-  while (!data.empty()) {
-    const ssize_t n = ::write(fd, data.data(), data.size());
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return errno;
-    }
-    data.remove_prefix(static_cast<std::size_t>(n));
-  }
-  return 0;
-}
-
-// A stream buffer over a file descriptor that keeps the errno of the first failed write.
-class DescriptorBuffer : public std::streambuf {
- public:
-  explicit DescriptorBuffer(int fd) : fd_(fd) { reset(); }
-  int error() const { return error_; }
-
- protected:
-  int_type overflow(int_type ch) override {
-    if (!drain()) return traits_type::eof();
-    if (traits_type::eq_int_type(ch, traits_type::eof())) return traits_type::not_eof(ch);
-    *pptr() = traits_type::to_char_type(ch);
-    pbump(1);
-    return ch;
-  }
-  int sync() override { return drain() ? 0 : -1; }
-
- private:
-  void reset() { setp(buffer_.data(), buffer_.data() + buffer_.size()); }
-  bool drain() {
-    if (error_ == 0)
-      error_ =
-          write_all(fd_, std::string_view(pbase(), static_cast<std::size_t>(pptr() - pbase())));
-    reset();
-    return error_ == 0;
-  }
-
-  int fd_;
-  int error_ = 0;
-  std::array<char, 1 << 16> buffer_{};
-};
-
 // The temporary file's name beside the target: "." + the target's name + "." + mkstemp's six
 // characters.
 constexpr const char* kTemporarySuffix = ".XXXXXX";
 constexpr std::size_t kTemporaryRandomChars = 6;
+constexpr mode_t kFileMode = 0644;  // the files written: the owner writes, everyone reads
 
 std::string temporary_prefix(const std::filesystem::path& target) {
   return "." + target.filename().string() + ".";
@@ -93,7 +52,7 @@ class TemporaryFile {
 
   // Syncs and closes the temporary file, renames it over the target, syncs the directory.
   void commit() {
-    if (::fchmod(fd_, 0644) != 0) fail(target_, "cannot set permissions", errno);
+    if (::fchmod(fd_, kFileMode) != 0) fail(target_, "cannot set permissions", errno);
     if (::fsync(fd_) != 0) fail(target_, "cannot sync", errno);
     const int fd = fd_;
     fd_ = -1;
@@ -103,6 +62,18 @@ class TemporaryFile {
     }
     renamed_ = true;
     sync_directory();
+  }
+
+  // Renames the (empty) temporary file over the target at once and hands over its descriptor,
+  // open for writing: the caller owns it.
+  int release_at_target() {
+    if (::fchmod(fd_, kFileMode) != 0) fail(target_, "cannot set permissions", errno);
+    if (::rename(path_.c_str(), target_.c_str()) != 0) {
+      fail(target_, "cannot rename a new file over it", errno);
+    }
+    renamed_ = true;
+    sync_directory();
+    return std::exchange(fd_, -1);
   }
 
  private:
@@ -145,6 +116,19 @@ void write_file_atomically(const std::filesystem::path& file,
   if (buffer.error() != 0) fail(file, "cannot write", buffer.error());
   if (!out) throw core::Error(file.string() + ": the stream failed while writing");
   temporary.commit();
+}
+
+int replace_with_new_file(const std::filesystem::path& file) {
+  TemporaryFile temporary(file);
+  return temporary.release_at_target();
+}
+
+std::optional<int> create_new_file(const std::filesystem::path& file) {
+  const int fd =
+      ::open(file.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, kFileMode);
+  if (fd >= 0) return fd;
+  if (errno == EEXIST) return std::nullopt;
+  fail(file, "cannot create it", errno);
 }
 
 std::vector<std::filesystem::path> remove_stale_temporaries(const std::filesystem::path& file) {

@@ -70,6 +70,20 @@ void ClientConnection::close(const std::string& why, bool notify_owner) {
   if (notify_owner) owner_.on_closed(*this, why, unwritten);
 }
 
+void ClientConnection::end_of_input() {
+  input_ended_ = true;
+  if (draining_) {
+    // The client has read our end or stopped sending: the linger has nothing left to wait for.
+    timer_.cancel();
+    return;
+  }
+  // A client that sent its requests and shut its side (shutdown(SHUT_WR), `nc -N`) is answered
+  // all of them, a last line without '\n' included, and their replies are written, not dropped
+  // (the owner then ends the connection, or streams on to a subscriber).
+  if (!received_.empty() && received_.back() != '\n') received_.push_back('\n');
+  answer_received();
+}
+
 void ClientConnection::answer_received() {
   std::size_t start = 0;
   while (accepting() && !paused()) {
@@ -85,6 +99,14 @@ void ClientConnection::answer_received() {
   }
   if (!accepting()) return;  // on_line dropped the connection or ended it
   received_.erase(0, start);
+  if (input_ended_) {
+    // Nothing more will come: once every received line is answered, the owner decides.
+    if (received_.empty() && !input_end_told_) {
+      input_end_told_ = true;
+      owner_.on_input_ended(*this);
+    }
+    return;
+  }
   // Only a partial line is left when nothing waits: it must stay within the limit.
   if (!paused() && received_.size() > limits_.max_line_bytes) owner_.on_overlong(*this);
 }
@@ -104,8 +126,12 @@ awaitable<void> ClientConnection::read_loop(
     const std::size_t n = co_await stream_.async_read_some(asio::buffer(chunk),
                                                            asio::redirect_error(use_awaitable, ec));
     if (closed_) co_return;
+    if (ec == asio::error::eof) {
+      end_of_input();
+      co_return;
+    }
     if (ec) {
-      close(ec == asio::error::eof ? "disconnected" : "read failed: " + ec.message());
+      close("read failed: " + ec.message());
       co_return;
     }
     if (draining_) continue;  // lingering: what the client still sends is discarded
@@ -125,8 +151,11 @@ awaitable<void> ClientConnection::write_loop(
       if (draining_) {
         // Everything is written: end our side, give the client time to read it and close.
         stream_.shutdown(Stream::shutdown_send, ec);
-        timer_.expires_after(kLingerAfterLastLine);
-        co_await timer_.async_wait(asio::redirect_error(use_awaitable, ec));
+        if (!input_ended_) {
+          timer_.expires_after(kLingerAfterLastLine);
+          co_await timer_.async_wait(asio::redirect_error(use_awaitable, ec));
+        }
+        if (closed_) co_return;
         close("closed after its last reply");
         co_return;
       }

@@ -40,6 +40,10 @@ class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
     virtual void on_written(ClientConnection& connection, std::size_t bytes) = 0;
     // No line arrived for the idle timeout (told again after each further timeout).
     virtual void on_idle(ClientConnection& connection) = 0;
+    // The client shut its side and every request it sent is answered (once). The owner ends
+    // the connection after its replies (close_after_flush) or, for a subscriber, lets it go on
+    // receiving until it closes.
+    virtual void on_input_ended(ClientConnection& connection) = 0;
     // The connection closed (once); unwritten_bytes were still queued.
     virtual void on_closed(ClientConnection& connection, const std::string& why,
                            std::size_t unwritten_bytes) = 0;
@@ -90,6 +94,8 @@ class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
   std::size_t queued_bytes_ = 0;
   std::string received_;  // bytes read and not yet answered: whole lines, then a partial one
   bool draining_ = false;
+  bool input_ended_ = false;  // the client shut its side: no more requests will come
+  bool input_end_told_ = false;  // the owner was told (on_input_ended)
   bool closed_ = false;
 
   boost::asio::awaitable<void> read_loop(std::shared_ptr<ClientConnection> self);
@@ -97,8 +103,12 @@ class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
   boost::asio::awaitable<void> idle_watch(std::shared_ptr<ClientConnection> self);
   // Back-pressure: requests wait while more than pause_bytes are queued.
   bool paused() const { return queued_bytes_ > limits_.pause_bytes; }
-  // Answers the whole lines received, in order, while not paused.
+  // Answers the whole lines received, in order, while not paused; once the input has ended
+  // and every line is answered, tells the owner.
   void answer_received();
+  // The client shut its side: what it sent is answered, and its replies written, before the
+  // connection may end.
+  void end_of_input();
 };
 
 }  // namespace tofcomp::daemon::socket

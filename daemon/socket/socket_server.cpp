@@ -106,6 +106,7 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   void on_overlong(ClientConnection& connection) override;
   void on_written(ClientConnection& connection, std::size_t bytes) override;
   void on_idle(ClientConnection& connection) override;
+  void on_input_ended(ClientConnection& connection) override;
   void on_closed(ClientConnection& connection, const std::string& why,
                  std::size_t unwritten_bytes) override;
 
@@ -358,6 +359,19 @@ void SocketServer::Impl::on_idle(ClientConnection& connection) {
                   " and no subscription (idle_timeout_s); closing it to free its slot")),
           Line::Reply);
   log(SocketLogLevel::Info, name(connection) + ": idle for " + span + "; closing its connection");
+  connection.close_after_flush();
+}
+
+// A client that shut its side after its requests has them answered; then it is closed after
+// the replies, unless it subscribed: a subscriber half-closed (`nc -N`) still wants the scans,
+// and a write tells when it has gone.
+void SocketServer::Impl::on_input_ended(ClientConnection& connection) {
+  const auto it = clients_.find(connection.number());
+  if (it == clients_.end()) return;
+  if (it->second.subscription) {
+    log(SocketLogLevel::Info, name(connection) + " shut its side; its subscription goes on");
+    return;
+  }
   connection.close_after_flush();
 }
 

@@ -78,6 +78,7 @@ Lms2xxDriver::Lms2xxDriver(asio::io_context& io, DriverSettings settings, ScanHa
                            StateHandler on_state)
     : io_(io),
       settings_(std::move(settings)),
+      device_(settings_.device),
       on_scan_(std::move(on_scan)),
       on_state_(std::move(on_state)),
       port_(io),
@@ -127,14 +128,14 @@ std::chrono::steady_clock::duration Lms2xxDriver::line_time(std::size_t bytes) c
 
 void Lms2xxDriver::open_port() {
   boost::system::error_code ec;
-  port_.open(settings_.device, ec);
-  if (ec) throw LinkError("cannot open " + settings_.device + ": " + ec.message());
+  port_.open(device_, ec);
+  if (ec) throw LinkError("cannot open " + device_ + ": " + ec.message());
   using base = asio::serial_port_base;
   port_.set_option(base::character_size(8), ec);
   if (!ec) port_.set_option(base::parity(base::parity::none), ec);
   if (!ec) port_.set_option(base::stop_bits(base::stop_bits::one), ec);
   if (!ec) port_.set_option(base::flow_control(base::flow_control::none), ec);
-  if (ec) throw LinkError("cannot set 8N1 on " + settings_.device + ": " + ec.message());
+  if (ec) throw LinkError("cannot set 8N1 on " + device_ + ": " + ec.message());
   decoder_.reset();
   link_lost_ = false;
   asio::co_spawn(io_, reader(++reader_generation_), asio::detached);
@@ -184,7 +185,7 @@ void Lms2xxDriver::set_port_baud(unsigned baud) {
     // EIO is a hung-up line (every call on it fails so); another error is a rate this port
     // cannot take, a fault of the settings, not of the link.
     if (ec == boost::system::errc::io_error) lose_link();
-    throw LinkError("cannot set " + std::to_string(baud) + " Bd on " + settings_.device + ": " +
+    throw LinkError("cannot set " + std::to_string(baud) + " Bd on " + device_ + ": " +
                     ec.message());
   }
   port_baud_ = baud;
@@ -210,15 +211,18 @@ awaitable<void> Lms2xxDriver::supervise() {
   bool port_usable = false;
   while (!stopping_) {
     std::string why;
+    // Whether the device answers is learnt afresh at each attempt: a port that no longer
+    // opens backs off however well the device answered before.
+    device_answered_ = false;
     try {
       if (!port_usable) {
-        set_state(LinkState::Connecting, "opening " + settings_.device);
+        device_ = settings_.current_device ? settings_.current_device() : settings_.device;
+        set_state(LinkState::Connecting, "opening " + device_);
         close_port();
         open_port();
         port_usable = true;
       }
       set_state(LinkState::Configuring, "bringing the device up");
-      device_answered_ = false;
       co_await bring_up();
       backoff = settings_.backoff_initial;
       ++counters_.bring_ups;
@@ -346,7 +350,7 @@ awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& r
   if (ec) {
     lose_link();
     pending_.reset();
-    throw LinkError("writing to " + settings_.device + " failed: " + ec.message());
+    throw LinkError("writing to " + device_ + " failed: " + ec.message());
   }
   // A streamed scan may be on the line ahead of the answer: while bytes keep arriving, the wait
   // stretches by up to one longest telegram's line time. A silent line fails fast, so a search
@@ -360,7 +364,7 @@ awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& r
   for (;;) {
     if (link_lost_ || stopping_) {
       pending_.reset();
-      throw LinkError(stopping_ ? "stopped" : "the link to " + settings_.device + " was lost");
+      throw LinkError(stopping_ ? "stopped" : "the link to " + device_ + " was lost");
     }
     if (pending_->reply) {
       reply = *pending_->reply;
@@ -430,7 +434,7 @@ awaitable<unsigned> Lms2xxDriver::find_rate() {
       }
     }
   }
-  throw LinkError("no answer from " + settings_.device + " at any rate");
+  throw LinkError("no answer from " + device_ + " at any rate");
 }
 
 awaitable<void> Lms2xxDriver::bring_up() {
@@ -479,7 +483,7 @@ awaitable<void> Lms2xxDriver::bring_up() {
 awaitable<std::string> Lms2xxDriver::watch_stream() {
   for (;;) {
     if (stopping_) co_return "stopped";
-    if (link_lost_) co_return "the link to " + settings_.device + " was lost";
+    if (link_lost_) co_return "the link to " + device_ + " was lost";
     if (device_reset_seen_) co_return "the device restarted";
     const auto silent_until = last_scan_ + settings_.scan_timeout;
     if (Clock::now() >= silent_until) {

@@ -22,6 +22,9 @@ namespace tofcomp::hal::lms2xx {
 
 struct DriverSettings {
   std::string device;      // the serial port, e.g. /dev/ttyUSB0 or the emulator's pty
+  // When set, asked for the device's path at each opening instead of `device`: an emulated
+  // LMS 200's pty, which each hang-up replaces with a new one.
+  std::function<std::string()> current_device;
   unsigned baud = 500000;  // the rate to run at: 9600, 19200, 38400 or 500000
   Variant variant{180, 50};
   Units units = Units::Millimetre;
@@ -93,6 +96,7 @@ class Lms2xxDriver {
   struct Pending;
   boost::asio::io_context& io_;
   DriverSettings settings_;
+  std::string device_;  // the path of the port opened last (settings_.current_device's answer)
   ScanHandler on_scan_;
   StateHandler on_state_;
   boost::asio::serial_port port_;

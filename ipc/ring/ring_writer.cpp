@@ -41,24 +41,6 @@ void release_name(const std::string& name) noexcept {
   names_held().erase(name);
 }
 
-void check_counts(const std::string& name, std::uint32_t slot_count, std::uint32_t max_beams) {
-  const std::string what = describe_object(name);
-  if (slot_count < kMinSlotCount || slot_count > kMaxSlotCount) {
-    throw core::InvalidInput(what + ": slot count " + std::to_string(slot_count) + " is outside " +
-                             std::to_string(kMinSlotCount) + ".." + std::to_string(kMaxSlotCount));
-  }
-  if (max_beams < 1 || max_beams > kMaxBeamsLimit) {
-    throw core::InvalidInput(what + ": max beams " + std::to_string(max_beams) + " is outside 1.." +
-                             std::to_string(kMaxBeamsLimit));
-  }
-  const std::uint64_t bytes = ring_size_for(slot_count, max_beams);
-  if (bytes > kMaxRingBytes) {
-    throw core::InvalidInput(what + ": " + std::to_string(slot_count) + " slots of " +
-                             std::to_string(max_beams) + " beams need " + std::to_string(bytes) +
-                             " bytes, more than the limit of " + std::to_string(kMaxRingBytes));
-  }
-}
-
 // Removes a ring of this name (this user's) left by a writer that is gone, and returns its
 // generation (0 if there was none). Refuses to remove a ring whose writer holds its lock, or an
 // object that is not a tofcomp ring.
@@ -98,11 +80,36 @@ std::uint64_t new_generation(std::uint64_t previous) {
 
 }  // namespace
 
+void check_ring_fits(const std::string& name, std::uint32_t slot_count, std::uint32_t max_beams) {
+  const std::string what = describe_object(name);
+  if (slot_count < kMinSlotCount || slot_count > kMaxSlotCount) {
+    throw core::InvalidInput(what + ": slot count " + std::to_string(slot_count) + " is outside " +
+                             std::to_string(kMinSlotCount) + ".." + std::to_string(kMaxSlotCount));
+  }
+  if (max_beams < 1 || max_beams > kMaxBeamsLimit) {
+    throw core::InvalidInput(what + ": max beams " + std::to_string(max_beams) + " is outside 1.." +
+                             std::to_string(kMaxBeamsLimit));
+  }
+  const std::uint64_t bytes = ring_size_for(slot_count, max_beams);
+  if (bytes > kMaxRingBytes) {
+    throw core::InvalidInput(what + ": " + std::to_string(slot_count) + " slots of " +
+                             std::to_string(max_beams) + " beams need " + std::to_string(bytes) +
+                             " bytes, more than the limit of " + std::to_string(kMaxRingBytes));
+  }
+  const std::uint64_t capacity = shm_capacity_bytes();
+  if (bytes > capacity) {
+    throw core::InvalidInput(what + ": " + std::to_string(slot_count) + " slots of " +
+                             std::to_string(max_beams) + " beams need " + std::to_string(bytes) +
+                             " bytes, more than " + kShmDirectory + " holds (" +
+                             std::to_string(capacity) + ")");
+  }
+}
+
 RingWriter::RingWriter(std::string name, std::uint32_t slot_count, std::uint32_t max_beams,
                        RingWriterOptions options)
     : name_(std::move(name)), geometry_{slot_count, max_beams}, options_(options) {
   validate_shm_name(name_);
-  check_counts(name_, slot_count, max_beams);
+  check_ring_fits(name_, slot_count, max_beams);
   const uid_t self = ::geteuid();
   if (const auto owner = object_owner(name_); owner && *owner != self) {
     const std::string taken = describe_object(name_) + " belongs to " + describe_user(*owner) +

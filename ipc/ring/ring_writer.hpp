@@ -24,6 +24,11 @@ struct RingWriterOptions {
   bool alternative_when_foreign = false;
 };
 
+// Throws core::InvalidInput naming the ring when the counts are outside their limits or the
+// ring would pass kMaxRingBytes or the size of /dev/shm (shm_capacity_bytes). RingWriter checks
+// this first; `tofcompd --check-config` too.
+void check_ring_fits(const std::string& name, std::uint32_t slot_count, std::uint32_t max_beams);
+
 class RingWriter {
  public:
   // Creates the ring `name` ("/tofcompd") with slot_count slots of max_beams beams. A ring of

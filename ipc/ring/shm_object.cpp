@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -36,9 +37,6 @@ class FileDescriptor {
  private:
   int fd_;
 };
-
-// Where Linux keeps POSIX shared-memory objects as files.
-constexpr const char* kShmDirectory = "/dev/shm";
 
 ShmObjectId id_of(const struct stat& st) {
   return ShmObjectId{static_cast<std::uint64_t>(st.st_dev), static_cast<std::uint64_t>(st.st_ino)};
@@ -156,6 +154,12 @@ std::optional<ShmObjectId> identify_object(const std::string& name) {
   return id_of(st);
 }
 
+std::uint64_t shm_capacity_bytes() {
+  struct statvfs st {};
+  if (::statvfs(kShmDirectory, &st) != 0) throw_errno(kShmDirectory, "statvfs", errno);
+  return static_cast<std::uint64_t>(st.f_blocks) * st.f_frsize;
+}
+
 ShmMapping create_exclusive(const std::string& name, std::size_t bytes, unsigned mode) {
   validate_shm_name(name);
   FileDescriptor fd(
@@ -174,6 +178,14 @@ ShmMapping create_exclusive(const std::string& name, std::size_t bytes, unsigned
     if (::fchmod(fd.get(), static_cast<mode_t>(mode)) != 0) throw_errno(name, "fchmod", errno);
     if (::ftruncate(fd.get(), static_cast<off_t>(bytes)) != 0) {
       throw_errno(name, "ftruncate to " + std::to_string(bytes) + " bytes", errno);
+    }
+    // The pages are reserved now: where /dev/shm is too small the start fails here, named,
+    // instead of a SIGBUS at the first write to a page beyond what it holds.
+    if (const int error = ::posix_fallocate(fd.get(), 0, static_cast<off_t>(bytes)); error != 0) {
+      throw_errno(name, "reserving " + std::to_string(bytes) + " bytes (posix_fallocate; " +
+                            std::string(kShmDirectory) + " holds " +
+                            std::to_string(shm_capacity_bytes()) + ")",
+                  error);
     }
     if (::fstat(fd.get(), &st) != 0) throw_errno(name, "fstat", errno);
     void* address = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd.get(), 0);

@@ -70,10 +70,16 @@ std::optional<ShmMapping> map_existing_read_only(const std::string& name);
 // The identity of the object name refers to now; nullopt when none.
 std::optional<ShmObjectId> identify_object(const std::string& name);
 
+// Where POSIX shared memory objects live on Linux (a tmpfs), and its size in bytes. Throws
+// core::Error naming it when it cannot be read.
+inline constexpr const char* kShmDirectory = "/dev/shm";
+std::uint64_t shm_capacity_bytes();
+
 // Creates name (O_CREAT | O_EXCL: fails if it exists) with exactly `mode` (set with fchmod, so
 // the umask does not narrow it), takes the writer's lock on it, sizes it to `bytes`
-// (zero-filled) and maps it read-write. The lock is held while the mapping lives. On failure
-// nothing is left behind.
+// (zero-filled, every page reserved: too large for /dev/shm is an error naming both sizes) and
+// maps it read-write. The lock is held while the mapping lives. On failure nothing is left
+// behind.
 ShmMapping create_exclusive(const std::string& name, std::size_t bytes, unsigned mode);
 
 // The owner of the object name refers to; nullopt when none. Found even when the object cannot

@@ -480,6 +480,11 @@ TEST(DaemonHardening, CheckConfigLoadsEveryFileItNames) {
   const auto [twice, f] = broken("file: calibration.yaml", "file: twice.yaml");
   EXPECT_EQ(twice, 1) << f;
   EXPECT_NE(f.find("version is given twice"), std::string::npos) << f;
+  // A ring the daemon could not reserve at start (the most slots, 60 GB): refused here too.
+  const auto [too_many_slots, g] = broken("  shm:\n", "  shm:\n    slots: 1048576\n");
+  EXPECT_EQ(too_many_slots, 1) << g;
+  EXPECT_NE(g.find("outputs.shm.slots 1048576: "), std::string::npos) << g;
+  EXPECT_NE(g.find("1048576 slots of 1024 beams need 60263760000 bytes"), std::string::npos) << g;
 }
 
 }  // namespace

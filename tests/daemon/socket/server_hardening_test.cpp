@@ -170,11 +170,7 @@ TEST(ServerBackPressure, AClientThatPipelinesRequestsGetsEveryReplyInOrder) {
   h.start_server();
   SocketClient client(h.path(), kTimeout);
   constexpr int kRequests = 50;
-  std::string requests;
-  for (int i = 0; i < kRequests; ++i) {
-    requests += R"({"id":)" + std::to_string(i) + R"(,"op":"latest"})" + "\n";
-  }
-  client.send_bytes(requests);
+  client.send_bytes(numbered_requests("latest", kRequests));
   for (int i = 0; i < kRequests; ++i) {
     const json reply = read_json_line(client, kTimeout);
     ASSERT_EQ(reply["id"], i);

@@ -65,6 +65,15 @@ inline nlohmann::json read_json_line(ipc::socket::SocketClient& client,
   return nlohmann::json::parse(*line);
 }
 
+// `count` request lines {"id":i,"op":op} for i = 0, 1, ..., each ended by '\n'.
+inline std::string numbered_requests(const std::string& op, int count) {
+  std::string requests;
+  for (int i = 0; i < count; ++i) {
+    requests += R"({"id":)" + std::to_string(i) + R"(,"op":")" + op + "\"}\n";
+  }
+  return requests;
+}
+
 inline double raw_of(std::uint64_t sequence, std::size_t beam) {
   return 1000.0 + static_cast<double>(sequence % 1000) + static_cast<double>(beam);
 }

@@ -61,7 +61,7 @@ class LinkHarness {
   // `configure` (may be empty) sets the emulator's further observers before it starts.
   LinkHarness(emu::EmulatorSettings emulator_settings, lms::DriverSettings driver_settings,
               const std::function<void(emu::Emulator&)>& configure = {})
-      : emulator_(std::move(emulator_settings)) {
+      : emulator_settings_link_(emulator_settings.link), emulator_(std::move(emulator_settings)) {
     if (configure) configure(emulator_);
     emulator_.on_scan_sent([this](const emu::SentScan& s) {
       std::lock_guard lock(mutex_);
@@ -74,6 +74,11 @@ class LinkHarness {
     });
     emulator_.start();
     driver_settings.device = emulator_.device_path();
+    // Without a stable link each hang-up makes a new pty: the driver asks for it at each opening,
+    // as tofcompd's does (daemon/scanner_link.cpp).
+    if (emulator_settings_link_.empty()) {
+      driver_settings.current_device = [this] { return emulator_.device_path(); };
+    }
     driver_ = std::make_unique<lms::Lms2xxDriver>(
         io_, driver_settings,
         [this](const lms::HostScan& scan) {
@@ -171,6 +176,7 @@ class LinkHarness {
   emu::EmulatorCounters emulator_counters() const { return emulator_.counters(); }
 
  private:
+  std::filesystem::path emulator_settings_link_;  // the emulator's stable link, if any
   emu::Emulator emulator_;
   boost::asio::io_context io_;
   std::unique_ptr<lms::Lms2xxDriver> driver_;

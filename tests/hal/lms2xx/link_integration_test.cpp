@@ -2,6 +2,8 @@
 // delivers is checked against what the twin measured.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "tests/hal/lms2xx/link_harness.hpp"
 
 namespace tofcomp::test {
@@ -155,6 +157,42 @@ TEST(Lms2xxLink, TheEmulatedSupplySwitchStopsAndRestartsTheScans) {
   EXPECT_LT(std::chrono::steady_clock::now() - powered, 3s);
   link.stop();
   EXPECT_GE(link.driver_counters().bring_ups, 2u);
+}
+
+// Hang-ups with no stable link (the daemon's built-in default): each makes a new pty, and the
+// host, asking at each opening which, streams again after every one.
+TEST(Lms2xxLink, EachHangUpsNewPtyIsFollowed) {
+  emu::EmulatorSettings settings = fast_emulator();
+  settings.faults.hang_up = 0.02;  // one telegram in fifty
+  settings.fault_seed = 53;
+  LinkHarness link(settings, driver_at(500000));
+  link.start();
+  constexpr std::size_t kScans = 600;
+  const bool arrived = link.wait_for_scans(kScans, 120s);
+  link.stop();
+  ASSERT_TRUE(arrived) << link.received().size() << " scans, "
+                       << link.driver_counters().link_losses << " link losses";
+  EXPECT_GE(link.emulator_counters().injected.hang_ups, 5u);
+  EXPECT_GE(link.driver_counters().link_losses, 5u);
+}
+
+// A port that stops opening (the device unplugged) is backed off, doubling to backoff_max,
+// however well the device answered before: with 50 ms first and 2 s at most, 2 s hold at
+// most seven attempts (a retry every 50 ms would make forty).
+TEST(Lms2xxLink, APortThatNoLongerOpensIsBackedOffAfterTheDeviceAnswered) {
+  LinkHarness link(fast_emulator(), driver_at(500000));
+  link.start();
+  ASSERT_TRUE(link.wait_for_scans(20, 20s));
+  link.emulator().stop();  // its pty is gone: every opening fails
+  const auto gone = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(2s);
+  link.stop();
+  const auto backoffs_after = std::count_if(
+      link.states().begin(), link.states().end(), [&](const auto& record) {
+        return record.state == lms::LinkState::Backoff && record.when > gone;
+      });
+  EXPECT_GE(backoffs_after, 1);
+  EXPECT_LE(backoffs_after, 8);
 }
 
 TEST(Lms2xxLink, ANonexistentPortBacksOffAndSaysWhy) {

@@ -5,15 +5,21 @@
 // naming its owner; a reader whose object is truncated under it gets an error, not SIGBUS.
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sched.h>
 #include <sys/mman.h>
+#include <sys/mount.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <optional>
+#include <string>
 
 #include "core/error.hpp"
 #include "ipc/ring/ring_header.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/ring/ring_writer.hpp"
+#include "ipc/ring/shm_object.hpp"
 #include "tests/ipc/ring/ring_test_support.hpp"
 #include "tests/support/planted_ring.hpp"
 
@@ -83,6 +89,91 @@ TEST(RingTrust, TheWritersLockNotItsPidSaysItRuns) {
   EXPECT_TRUE(reader.writer_running());
   set_writer_pid(name, 0);  // whatever the header says
   EXPECT_TRUE(reader.writer_running());
+}
+
+// Runs `body` in a child process whose /dev/shm is a tmpfs of `size` (mounted in a mount
+// namespace of its own, in a user namespace too when this user may not mount) and returns what
+// it returns; nullopt when this machine allows neither namespace.
+std::optional<std::string> with_small_shm(const char* size, std::string (*body)()) {
+  int pipe_fds[2];
+  if (::pipe(pipe_fds) != 0) return std::nullopt;
+  const uid_t uid = ::geteuid();
+  const gid_t gid = ::getegid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::close(pipe_fds[0]);
+    const auto write_file = [](const char* path, const std::string& text) {
+      const int fd = ::open(path, O_WRONLY);
+      const bool ok = fd >= 0 && ::write(fd, text.data(), text.size()) ==
+                                     static_cast<ssize_t>(text.size());
+      if (fd >= 0) ::close(fd);
+      return ok;
+    };
+    bool isolated = ::unshare(CLONE_NEWNS) == 0;
+    if (!isolated && ::unshare(CLONE_NEWUSER | CLONE_NEWNS) == 0) {
+      isolated = write_file("/proc/self/setgroups", "deny") &&
+                 write_file("/proc/self/uid_map", std::to_string(uid) + " " +
+                                                      std::to_string(uid) + " 1") &&
+                 write_file("/proc/self/gid_map", std::to_string(gid) + " " +
+                                                      std::to_string(gid) + " 1");
+    }
+    if (!isolated || ::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0 ||
+        ::mount("tmpfs", kShmDirectory, "tmpfs", 0, (std::string("size=") + size).c_str()) != 0) {
+      ::_exit(2);
+    }
+    const std::string result = body();
+    const bool written =
+        ::write(pipe_fds[1], result.data(), result.size()) == static_cast<ssize_t>(result.size());
+    ::_exit(written ? 0 : 1);
+  }
+  ::close(pipe_fds[1]);
+  std::string result;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(pipe_fds[0], buffer, sizeof buffer)) > 0;) result.append(buffer, n);
+  ::close(pipe_fds[0]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) == 2) return std::nullopt;
+  return result;
+}
+
+std::string error_of_writer(std::uint32_t slots) {
+  try {
+    RingWriter writer("/tofcomp-small-shm", slots, 1024);
+    writer.publish(known_scan(0, 1024));
+    return "(made, and written)";
+  } catch (const core::Error& e) {
+    return std::string(e.what()) +
+           (identify_object("/tofcomp-small-shm") ? " (an object was left)" : "");
+  }
+}
+
+// A /dev/shm smaller than the ring (a container's): the writer's start fails naming the sizes.
+// Before, the ring was sized with ftruncate alone and its first write to a page beyond the
+// tmpfs killed the daemon with SIGBUS.
+TEST(RingTrust, ARingLargerThanSharedMemoryIsRefusedAtItsStart) {
+  const auto error = with_small_shm("1m", [] { return error_of_writer(64); });  // 3.7 MB
+  if (!error) GTEST_SKIP() << "no mount namespace on this machine";
+  EXPECT_NE(error->find("64 slots of 1024 beams need 3678336 bytes, more than /dev/shm holds "
+                        "(1048576)"),
+            std::string::npos)
+      << *error;
+}
+
+// One that fits the tmpfs but not what is free in it: every page is reserved at the start, so
+// the start fails (ENOSPC, named) and nothing is left behind.
+TEST(RingTrust, ARingLargerThanTheFreeSharedMemoryIsRefusedAtItsStart) {
+  const auto error = with_small_shm("1m", [] {
+    const int fd = ::shm_open("/tofcomp-filler", O_CREAT | O_RDWR, 0600);
+    if (fd < 0 || ::posix_fallocate(fd, 0, 768 << 10) != 0) return std::string("(no filler)");
+    return error_of_writer(8);  // 460 KB
+  });
+  if (!error) GTEST_SKIP() << "no mount namespace on this machine";
+  EXPECT_NE(error->find("reserving 459904 bytes (posix_fallocate; /dev/shm holds 1048576)"),
+            std::string::npos)
+      << *error;
+  EXPECT_NE(error->find("No space left on device"), std::string::npos) << *error;
+  EXPECT_EQ(error->find("an object was left"), std::string::npos) << *error;
 }
 
 TEST(RingTrust, AShrunkObjectIsAnErrorNotSigbus) {
