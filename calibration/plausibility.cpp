@@ -4,11 +4,48 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 
 namespace tofcomp::calibration {
 
+namespace {
+
+// The thermal network (Eq. 2) as physics: its time constants and steady rises within their
+// bounds. Written so that NaN fails every test.
+void thermal_implausibilities(const core::ThermalParameters& p, std::vector<std::string>& faults) {
+  // A rise is above 0: the smallest positive double is its lower bound.
+  constexpr double kAboveZero = std::numeric_limits<double>::min();
+  const struct {
+    const char* what;
+    double value;
+    double low;
+    double high;
+    const char* unit;
+  } quantities[] = {
+      {"time constant R1·C1 (junction over case)", p.r1_k_per_w * p.c1_j_per_k,
+       kMinThermalTimeConstantS, kMaxThermalTimeConstantS, "s"},
+      {"time constant R2·C2 (case over ambient)", p.r2_k_per_w * p.c2_j_per_k,
+       kMinThermalTimeConstantS, kMaxThermalTimeConstantS, "s"},
+      {"steady rise P·R1 (junction over case)", p.power_w * p.r1_k_per_w, kAboveZero,
+       kMaxThermalRiseK, "K"},
+      {"steady rise P·R2 (case over ambient)", p.power_w * p.r2_k_per_w, kAboveZero,
+       kMaxThermalRiseK, "K"},
+  };
+  for (const auto& [what, value, low, high, unit] : quantities) {
+    if (value >= low && value <= high) continue;
+    faults.push_back(fmt::format(
+        "its thermal {} is {:g} {}, outside {:g} to {:g} {} (thermal r1_k_per_w {:g}, "
+        "c1_j_per_k {:g}, r2_k_per_w {:g}, c2_j_per_k {:g}, power_w {:g})",
+        what, value, unit, low == kAboveZero ? 0.0 : low, high, unit, p.r1_k_per_w,
+        p.c1_j_per_k, p.r2_k_per_w, p.c2_j_per_k, p.power_w));
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> implausibilities(const core::Calibration& calibration) {
   std::vector<std::string> faults;
+  thermal_implausibilities(calibration.thermal, faults);
   const core::MeasurementModel& model = calibration.model;
   const core::MixtureParameters& mixture = model.mixture;
   for (Eigen::Index i = 0; i < mixture.mean.size(); ++i) {
@@ -28,6 +65,20 @@ std::vector<std::string> implausibilities(const core::Calibration& calibration) 
                       "LMS 200's lasing modes",
                       separation, kMaxModeSeparationMm));
     }
+  }
+  // The basis's scaling as training makes it (core::TemperatureScaling::spanning): a half range
+  // below its floor scales every temperature but its centre to a number beyond any basis (a
+  // half_range_c of 1e-300 made every bias NaN).
+  const core::TemperatureScaling& scaling = model.basis.scaling();
+  if (!(scaling.half_range_c >= core::kMinScalingHalfRangeC &&
+        scaling.half_range_c <= kMaxJunctionC - kMinJunctionC &&
+        scaling.center_c >= kMinJunctionC && scaling.center_c <= kMaxJunctionC)) {
+    faults.push_back(fmt::format(
+        "its basis is scaled about {:g} °C by a half range of {:g} °C, outside {:g} to {:g} °C "
+        "about a centre within {:.0f} to {:.0f} °C",
+        scaling.center_c, scaling.half_range_c, core::kMinScalingHalfRangeC,
+        kMaxJunctionC - kMinJunctionC, kMinJunctionC, kMaxJunctionC));
+    return faults;
   }
   // The trained junction temperatures, or without them the basis's own scaling.
   core::TemperatureRange range{model.basis.scaling().center_c - model.basis.scaling().half_range_c,

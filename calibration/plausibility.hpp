@@ -28,6 +28,14 @@ inline constexpr double kMaxModeSpreadMm = 30.0;
 // Junction temperatures a laser diode in a working scanner can have.
 inline constexpr double kMinJunctionC = -40.0;
 inline constexpr double kMaxJunctionC = 150.0;
+// The thermal network's time constants R1·C1 (junction over case) and R2·C2 (case over ambient,
+// Eq. 2): from a tenth of a second, a junction that follows its power at once, to a day, a case
+// that never warms. The LMS 200's are about 12 s and 30 min.
+inline constexpr double kMinThermalTimeConstantS = 0.1;
+inline constexpr double kMaxThermalTimeConstantS = 86400.0;
+// Its steady rises P·R1 and P·R2: positive, and at most the span of the junction temperatures a
+// working laser diode can have.
+inline constexpr double kMaxThermalRiseK = kMaxJunctionC - kMinJunctionC;
 // Points of the trained junction range at which the predicted error is checked.
 inline constexpr int kBiasCheckPoints = 101;
 

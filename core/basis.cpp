@@ -12,7 +12,6 @@ namespace tofcomp::core {
 namespace {
 
 constexpr int kMaxOrder = 1000;
-constexpr double kMinHalfRangeC = 5e-4;
 
 void validate_term(const BasisTerm& term) {
   if (term.order < 1 || term.order > kMaxOrder) {
@@ -91,7 +90,7 @@ TemperatureScaling TemperatureScaling::spanning(
   require_finite(temperatures_c, "temperature");
   const double lo = temperatures_c.minCoeff();
   const double hi = temperatures_c.maxCoeff();
-  return TemperatureScaling{0.5 * (lo + hi), std::max(0.5 * (hi - lo), kMinHalfRangeC)};
+  return TemperatureScaling{0.5 * (lo + hi), std::max(0.5 * (hi - lo), kMinScalingHalfRangeC)};
 }
 
 Basis::Basis(std::vector<BasisTerm> terms, TemperatureScaling scaling)

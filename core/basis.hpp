@@ -31,6 +31,10 @@ struct BasisTerm {
   int columns() const { return kind == BasisKind::Polynomial ? order : 2 * order; }
 };
 
+// The narrowest half range a scaling is given: a range of temperatures narrower than 1e-3 °C is
+// widened to it, so that a constant temperature does not divide by zero.
+inline constexpr double kMinScalingHalfRangeC = 5e-4;
+
 // The affine map z = (t − center_c) / half_range_c that puts the training temperatures on
 // [−1, 1] for the Legendre form.
 struct TemperatureScaling {

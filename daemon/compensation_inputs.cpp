@@ -1,11 +1,13 @@
 #include "daemon/compensation_inputs.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
 #include <utility>
 
 #include "core/error.hpp"
+#include "daemon/plausible_calibration.hpp"
 #include "io/calibration_file.hpp"
 #include "settings/pipeline_setup.hpp"
 
@@ -21,7 +23,7 @@ CompensationInputs::CompensationInputs(const settings::DaemonConfig& config, Eve
                  config.calibration.file.string());
     use_calibration(nullptr, "none");
   } else {
-    use_calibration(settings::read_configured_calibration(config),
+    use_calibration(read_plausible_calibration(config),
                     config.calibration.file.string());
   }
 }
@@ -94,9 +96,22 @@ std::optional<ipc::CompensatedScan> CompensationInputs::scan(ArrivedScan scan) {
     out = pipeline_.on_scan(scan.raw);
   } catch (const core::Error& e) {
     ++counters_.scans_rejected;
-    spdlog::error("scan {} not published: {}", scan.sequence, e.what());
+    ++refused_since_report_;
+    refusal_ = e.what();
+    const auto now = std::chrono::steady_clock::now();
+    if (*refusal_ != reported_refusal_ || now - reported_at_ >= kRefusalReportInterval) {
+      spdlog::error("scan {} not published: {}{}", scan.sequence, *refusal_,
+                    refused_since_report_ > 1
+                        ? fmt::format(" ({} scans refused since the last report)",
+                                      refused_since_report_)
+                        : std::string());
+      reported_refusal_ = *refusal_;
+      reported_at_ = now;
+      refused_since_report_ = 0;
+    }
     return std::nullopt;
   }
+  refusal_.reset();
   if (!measured_before_switch_off) recordings_.scan(scan.raw);
   return out;
 }

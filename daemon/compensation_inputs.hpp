@@ -5,6 +5,7 @@
 // and the counts of scans in and rejected, power changes and calibration swaps.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -21,6 +22,10 @@
 #include "settings/daemon_config.hpp"
 
 namespace tofcomp::daemon {
+
+// Refusals for one reason are logged at most this often (a broken path refuses every scan,
+// 75 a second).
+inline constexpr std::chrono::seconds kRefusalReportInterval{10};
 
 struct InputCounters {
   std::uint64_t scans_in = 0;        // from the link
@@ -51,8 +56,11 @@ class CompensationInputs {
   // silence is expected.
   void switched(double time_s, bool on);
   bool switched_off() const { return switched_off_; }
-  // The scan compensated, or nullopt when the pipeline refused it (logged).
+  // The scan compensated, or nullopt when the pipeline refused it: logged, the first of a run
+  // of refusals for one reason and then at most once per kRefusalReportInterval with the count.
   std::optional<ipc::CompensatedScan> scan(ArrivedScan scan);
+  // Why the last scan was refused; nullopt when it was not.
+  const std::optional<std::string>& refusal() const { return refusal_; }
 
   // Starts a recording with the state the pipeline is in: the last case reading, the power.
   void seed(Recorder& recorder) const;
@@ -73,6 +81,10 @@ class CompensationInputs {
   bool switched_off_ = false;                                   // the daemon switched it off
   std::optional<std::pair<double, double>> last_case_reading_;  // time_s, °C
   InputCounters counters_;
+  std::optional<std::string> refusal_;                      // of the last scan
+  std::string reported_refusal_;                            // the last one logged
+  std::chrono::steady_clock::time_point reported_at_{};     // when
+  std::uint64_t refused_since_report_ = 0;
 };
 
 }  // namespace tofcomp::daemon

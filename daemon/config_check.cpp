@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "daemon/plausible_calibration.hpp"
 #include "io/calibration_file.hpp"
 #include "io/checked_file.hpp"
 #include "io/bundled_datasheet.hpp"
@@ -68,6 +69,7 @@ std::string check_configuration(const settings::DaemonConfig& config) {
     } else {
       loads(config, "calibration.file", config.calibration.file, [&] {
         auto calibration = settings::read_configured_calibration(config);
+        require_plausible(*calibration);
         realtime::CompensationPipeline pipeline(settings::pipeline_settings(config));
         pipeline.set_calibration(calibration, 1);
         note("calibration " + config.calibration.file.string() +

@@ -6,6 +6,7 @@
 #include <exception>
 #include <utility>
 
+#include "daemon/plausible_calibration.hpp"
 #include "io/calibration_file.hpp"
 #include "settings/pipeline_setup.hpp"
 
@@ -113,7 +114,7 @@ socket::ReloadResult Control::reload() {
   try {
     // Everything that can fail is read before anything changes.
     settings::DaemonConfig next = config.read();
-    auto calibration = settings::read_configured_calibration(next);
+    auto calibration = read_plausible_calibration(next);
     const auto restart = settings::keys_needing_restart(config.current(), next);
 
     modules_.inputs.set_settings(next);

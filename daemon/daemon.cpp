@@ -26,7 +26,11 @@ Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file,
       link_(io_, config_.current(), clock_,
             ScannerLink::Handlers{
                 [this](ArrivedScan scan) {
-                  if (auto out = inputs_.scan(std::move(scan))) outputs_.publish(std::move(*out));
+                  if (auto out = inputs_.scan(std::move(scan))) {
+                    outputs_.publish(std::move(*out));
+                  } else if (const auto& why = inputs_.refusal()) {
+                    service_.scan_refused(*why);
+                  }
                 },
                 [this](double time_s, double case_c) { sensor_.recorded(time_s, case_c); },
                 [this](double time_s, bool on) { inputs_.power(time_s, on); },

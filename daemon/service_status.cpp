@@ -7,6 +7,7 @@ namespace tofcomp::daemon {
 namespace {
 constexpr const char* kWaitingStatus = "waiting for the first scan";
 constexpr const char* kPublishingStatus = "publishing compensated scans";
+constexpr const char* kRefusingStatus = "refusing scans: ";
 }  // namespace
 
 void ServiceStatus::start_watchdog() {
@@ -32,11 +33,21 @@ void ServiceStatus::show_scan_state() {
 }
 
 void ServiceStatus::scan_published() {
+  if (refusing_) {
+    refusing_ = false;
+    set(kPublishingStatus);
+  }
   if (ready_sent_) return;
   ready_sent_ = true;
   notifier_.ready();
   spdlog::info("first compensated scan published: ready");
   set(kPublishingStatus);
+}
+
+void ServiceStatus::scan_refused(const std::string& why) {
+  const std::string text = std::string(kRefusingStatus) + why;
+  refusing_ = true;
+  if (text != text_) set(text);
 }
 
 void ServiceStatus::reloading() {

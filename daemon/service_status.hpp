@@ -24,8 +24,11 @@ class ServiceStatus {
   const std::string& text() const { return text_; }
   // The status of a scanner that runs: waiting for the first scan, or publishing.
   void show_scan_state();
-  // A scan was published: the first one makes the service ready.
+  // A scan was published: the first one makes the service ready; after refusals the status is
+  // publishing again.
   void scan_published();
+  // The compensation path refused a scan: the status says so, and why, until one is published.
+  void scan_refused(const std::string& why);
 
   void reloading();
   void reloaded();
@@ -35,6 +38,7 @@ class ServiceStatus {
   service::SystemdNotifier notifier_;
   std::string text_;
   bool ready_sent_ = false;
+  bool refusing_ = false;
   std::optional<Clock::duration> watchdog_period_;
   Clock::time_point last_watchdog_{};
 };

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "io/calibration_file.hpp"
 
 namespace tofcomp::calibration {
@@ -65,6 +67,41 @@ TEST(Plausibility, SpreadSeparationAndTemperaturesAreBounded) {
   hot.model.trained_junction_c = core::TemperatureRange{20.0, 400.0};
   EXPECT_NE(joined(implausibilities(hot)).find("20.0 to 400.0 °C lie outside -40 to 150 °C"),
             std::string::npos);
+}
+
+// Calibrations that passed every check of their file and then published nothing or nonsense
+// (issue 53): each is refused, naming what is wrong.
+TEST(Plausibility, TheThermalNetworkAndTheScalingAreBoundedAsPhysics) {
+  const auto faults_of = [](auto change) {
+    core::Calibration c = bundled();
+    change(c);
+    return joined(implausibilities(c));
+  };
+  const std::string tiny_c1 = faults_of([](core::Calibration& c) { c.thermal.c1_j_per_k = 1e-300; });
+  EXPECT_NE(tiny_c1.find("its thermal time constant R1·C1 (junction over case) is"),
+            std::string::npos)
+      << tiny_c1;
+  EXPECT_NE(tiny_c1.find("c1_j_per_k 1e-300"), std::string::npos) << tiny_c1;
+  const std::string huge_r1 = faults_of([](core::Calibration& c) { c.thermal.r1_k_per_w = 1e308; });
+  EXPECT_NE(huge_r1.find("R1·C1 (junction over case) is inf s"), std::string::npos) << huge_r1;
+  EXPECT_NE(huge_r1.find("its thermal steady rise P·R1 (junction over case) is inf K"),
+            std::string::npos)
+      << huge_r1;
+  const std::string hot_case =
+      faults_of([](core::Calibration& c) { c.thermal.power_w = 1000.0; });
+  EXPECT_NE(hot_case.find("P·R2 (case over ambient) is"), std::string::npos) << hot_case;
+  const std::string nan_c2 = faults_of(
+      [](core::Calibration& c) { c.thermal.c2_j_per_k = std::numeric_limits<double>::quiet_NaN(); });
+  EXPECT_NE(nan_c2.find("R2·C2 (case over ambient) is nan s"), std::string::npos) << nan_c2;
+  // A basis scaled to nothing: its bias is no number at any junction temperature.
+  const std::string flat = faults_of([](core::Calibration& c) {
+    c.model.basis = core::Basis(c.model.basis.terms(), core::TemperatureScaling{
+                                                           c.model.basis.scaling().center_c, 1e-300});
+  });
+  EXPECT_NE(flat.find("its basis is scaled about 26.7963 °C by a half range of 1e-300 °C, outside "
+                      "0.0005 to 190 °C"),
+            std::string::npos)
+      << flat;
 }
 
 TEST(Plausibility, TheHeldOutMarginIsTenPercentAndFiveHundredthsOfAMillimetre) {

@@ -480,6 +480,20 @@ TEST(DaemonHardening, CheckConfigLoadsEveryFileItNames) {
   const auto [twice, f] = broken("file: calibration.yaml", "file: twice.yaml");
   EXPECT_EQ(twice, 1) << f;
   EXPECT_NE(f.find("version is given twice"), std::string::npos) << f;
+  // A calibration whose file passes its own checks but which describes no scanner (a junction
+  // capacity of 1e-300 J/K: 26,607 mm published for a raw 3,001 mm): refused, naming why.
+  std::string no_scanner = read_file(d.dir.path() / "calibration.yaml");
+  const std::size_t c1 = no_scanner.find("c1_j_per_k: ");
+  ASSERT_NE(c1, std::string::npos);
+  no_scanner.replace(c1, no_scanner.find('\n', c1) - c1, "c1_j_per_k: 1e-300");
+  write_file(d.dir.path() / "no-scanner.yaml", no_scanner);
+  const auto [impossible, h] = broken("file: calibration.yaml", "file: no-scanner.yaml");
+  EXPECT_EQ(impossible, 1) << h;
+  EXPECT_NE(h.find("calibration.file " + (d.dir.path() / "no-scanner.yaml").string() +
+                   ": not a calibration of a scanner that can exist: its thermal time constant "
+                   "R1·C1 (junction over case) is"),
+            std::string::npos)
+      << h;
   // A ring the daemon could not reserve at start (the most slots, 60 GB): refused here too.
   const auto [too_many_slots, g] = broken("  shm:\n", "  shm:\n    slots: 1048576\n");
   EXPECT_EQ(too_many_slots, 1) << g;
