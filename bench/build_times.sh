@@ -14,6 +14,8 @@ work=$(mktemp -d /tmp/tofcomp-build-times.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 git clone -q "$root" "$work/tofcomp"
 clone="$work/tofcomp"
+# The tests read ../shared (the paper's foreign data sets) beside the checkout, as in CI's.
+if [ -d "$root/../shared" ]; then ln -s "$(cd "$root/../shared" && pwd)" "$work/shared"; fi
 case "$cache" in
   cold) export CCACHE_DIR="$work/ccache" ;;
   warm) ;;
