@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <map>
 #include <optional>
@@ -29,6 +30,8 @@ using Stream = asio::local::stream_protocol::socket;
 
 namespace {
 constexpr std::chrono::milliseconds kAcceptErrorPause{100};
+// Connections turned away (max_clients) are logged at most this often.
+constexpr std::chrono::seconds kRefusalWarningInterval{10};
 constexpr std::size_t kMaxPathBytes = sizeof(sockaddr_un::sun_path) - 1;
 
 // Where start() binds before the socket is ready: a hidden name beside the path, so that the
@@ -131,6 +134,8 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   std::uint64_t generation_ = 0;  // of the accept loop: a restarted server ignores the old one
   SocketServerCounters counters_;
   std::optional<FileIdentity> made_;
+  std::uint64_t refused_unlogged_ = 0;  // turned away since the last warning, not logged
+  std::optional<std::chrono::steady_clock::time_point> refusal_warned_at_;
 
   awaitable<void> accept_loop(std::shared_ptr<Impl> self, std::uint64_t generation);
   void admit(Stream stream);
@@ -249,9 +254,21 @@ void SocketServer::Impl::admit(Stream stream) {
     return;
   }
   ++counters_.refused_clients;
-  log(SocketLogLevel::Warning, name(*connection) +
-                                   " turned away: " + std::to_string(settings_.max_clients) +
-                                   " clients are connected (max_clients)");
+  // A flood of connections must not flood the log: one warning per interval, and the count of
+  // those turned away unlogged meanwhile.
+  const auto now = std::chrono::steady_clock::now();
+  if (refusal_warned_at_ && now - *refusal_warned_at_ < kRefusalWarningInterval) {
+    ++refused_unlogged_;
+  } else {
+    log(SocketLogLevel::Warning,
+        name(*connection) + " turned away: " + std::to_string(settings_.max_clients) +
+            " clients are connected (max_clients)" +
+            (refused_unlogged_ > 0 ? "; " + std::to_string(refused_unlogged_) +
+                                         " more turned away since the last warning"
+                                   : std::string()));
+    refusal_warned_at_ = now;
+    refused_unlogged_ = 0;
+  }
   enqueue(*connection,
           std::make_shared<const std::string>(ipc::socket::encode_error_reply(
               std::nullopt, ipc::socket::ErrorCode::Unavailable,

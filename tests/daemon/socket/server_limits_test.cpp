@@ -2,6 +2,8 @@
 // cleanly after the answer; clients beyond max_clients get an error line and are closed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "ipc/socket/client.hpp"
 #include "tests/daemon/socket/server_harness.hpp"
 
@@ -84,6 +86,32 @@ TEST(ServerLimits, ClientsBeyondMaxClientsGetAnErrorLineAndAreClosed) {
   SocketClient d(h.path(), kTimeout);
   EXPECT_TRUE(d.call({{"op", "status"}}, kTimeout)["ok"]);
   EXPECT_EQ(h.counters().clients, 2u);
+}
+
+// A flood of connections beyond max_clients is counted one by one but logged once per 10 s, the
+// next warning with the count of those not logged (issue 53: each one was logged).
+TEST(ServerLimits, ConnectionsTurnedAwayAreLoggedAtARateLimit) {
+  sock::SocketServerSettings settings;
+  settings.max_clients = 1;
+  SocketHarness h(settings);
+  h.start_server();
+  SocketClient admitted(h.path(), kTimeout);
+  EXPECT_TRUE(admitted.call({{"op", "status"}}, kTimeout)["ok"]);
+  constexpr int kTurnedAway = 50;
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < kTurnedAway; ++i) {
+    SocketClient refused(h.path(), kTimeout);
+    EXPECT_EQ(read_json_line(refused, kTimeout)["error"]["code"], "unavailable");
+  }
+  const auto elapsed = std::chrono::steady_clock::now() - start;
+  EXPECT_EQ(h.counters().refused_clients, static_cast<std::uint64_t>(kTurnedAway));
+  const auto logs = h.log();
+  const auto warnings = std::count_if(logs.begin(), logs.end(), [](const std::string& line) {
+    return line.find("turned away") != std::string::npos;
+  });
+  // One warning per 10 s begun (the loop above takes well under a second here).
+  EXPECT_GE(warnings, 1);
+  EXPECT_LE(warnings, 1 + elapsed / std::chrono::seconds(10));
 }
 
 TEST(ServerLimits, SettingsAreValidatedNamingTheSetting) {
