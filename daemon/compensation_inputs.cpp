@@ -96,18 +96,14 @@ std::optional<ipc::CompensatedScan> CompensationInputs::scan(ArrivedScan scan) {
     out = pipeline_.on_scan(scan.raw);
   } catch (const core::Error& e) {
     ++counters_.scans_rejected;
-    ++refused_since_report_;
     refusal_ = e.what();
-    const auto now = std::chrono::steady_clock::now();
-    if (*refusal_ != reported_refusal_ || now - reported_at_ >= kRefusalReportInterval) {
+    if (const auto passed_over =
+            refusal_reports_.report(std::chrono::steady_clock::now(), *refusal_)) {
       spdlog::error("scan {} not published: {}{}", scan.sequence, *refusal_,
-                    refused_since_report_ > 1
+                    *passed_over > 0
                         ? fmt::format(" ({} scans refused since the last report)",
-                                      refused_since_report_)
+                                      *passed_over + 1)
                         : std::string());
-      reported_refusal_ = *refusal_;
-      reported_at_ = now;
-      refused_since_report_ = 0;
     }
     return std::nullopt;
   }

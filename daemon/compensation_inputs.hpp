@@ -17,6 +17,7 @@
 #include "daemon/event_clock.hpp"
 #include "daemon/recorder.hpp"
 #include "daemon/recordings.hpp"
+#include "daemon/report_throttle.hpp"
 #include "ipc/compensated_scan.hpp"
 #include "realtime/compensation_pipeline.hpp"
 #include "settings/daemon_config.hpp"
@@ -81,10 +82,8 @@ class CompensationInputs {
   bool switched_off_ = false;                                   // the daemon switched it off
   std::optional<std::pair<double, double>> last_case_reading_;  // time_s, °C
   InputCounters counters_;
-  std::optional<std::string> refusal_;                      // of the last scan
-  std::string reported_refusal_;                            // the last one logged
-  std::chrono::steady_clock::time_point reported_at_{};     // when
-  std::uint64_t refused_since_report_ = 0;
+  std::optional<std::string> refusal_;  // of the last scan
+  ReportThrottle refusal_reports_{kRefusalReportInterval};
 };
 
 }  // namespace tofcomp::daemon

@@ -45,38 +45,33 @@ Recorder::~Recorder() {
 }
 
 void Recorder::close_file() {
-  if (fd_ < 0) return;
+  if (!file_) return;
   writer_.reset();
-  struct Release {  // the descriptor is closed whether or not the last flush failed
-    Recorder& r;
-    ~Release() {
-      ::close(std::exchange(r.fd_, -1));
-      r.out_.reset();
-      r.buffer_.reset();
-    }
-  } release{*this};
-  flush_whole();
+  try {
+    flush_whole();
+  } catch (const core::Error&) {
+    file_.reset();  // closed whether or not the last flush failed
+    throw;
+  }
+  file_.reset();
 }
 
 void Recorder::flush_whole() {
-  out_->flush();
-  if (buffer_->error() == 0) {
-    whole_bytes_ = buffer_->written();
+  file_->flush();
+  if (file_->error() == 0) {
+    whole_bytes_ = file_->written();
     return;
   }
-  const int error = buffer_->error();
   // The file ends on its last whole scan, so that it still reads (a cut row would not).
-  const bool cut = ::ftruncate(fd_, static_cast<off_t>(whole_bytes_)) == 0;
+  const bool cut = ::ftruncate(file_->fd(), static_cast<off_t>(whole_bytes_)) == 0;
   throw core::Error("recording: cannot write " + current_path_.string() + ": " +
-                    std::strerror(error) +
+                    std::strerror(file_->error()) +
                     (cut ? "; the file ends at its last whole scan" : ""));
 }
 
 void Recorder::abandon_file() {
   writer_.reset();
-  out_.reset();
-  buffer_.reset();
-  if (fd_ >= 0) ::close(std::exchange(fd_, -1));
+  file_.reset();
   if (whole_bytes_ == 0 && !current_path_.empty()) {
     std::error_code ignored;
     std::filesystem::remove(current_path_, ignored);
@@ -130,16 +125,14 @@ void Recorder::open_file(const realtime::RawScan& first) {
       if (const auto created = io::create_new_file(path)) fd = *created;
     }
   }
-  fd_ = fd;
-  buffer_ = std::make_unique<io::DescriptorBuffer>(fd_);
-  out_ = std::make_unique<std::ostream>(buffer_.get());
+  file_ = std::make_unique<io::DescriptorStream>(fd);
   whole_bytes_ = 0;
   current_path_ = path;
   std::vector<std::string> columns = io::recording_columns();
   if (settings_.true_range_mm) columns.emplace_back("true_range_mm");
   const bool first_file = counters_.files == 0;
   writer_ = std::make_unique<io::MeasuredDataWriter>(
-      *out_,
+      *file_,
       io::recording_metadata(first.ranges_mm.size(), first.start_angle_deg, first.resolution_deg),
       std::move(columns), path.string());
   opened_at_ = std::chrono::steady_clock::now();

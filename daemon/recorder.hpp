@@ -8,8 +8,9 @@
 // The directory may be writable by others: a file is always made new (never opened through a
 // symlink or over a file planted there; a calibration run's named file replaces what is there
 // by a rename). A write that fails (a full disk) cuts the file back to its last whole scan, so
-// that it still reads, and names the system's error; the scans of the next kRetryAfterS are not
-// recorded (counted lost), then a new file is tried, starting with the pipeline's state.
+// that it still reads, and names the system's error; the scans of the next
+// kRecorderRetryAfterS are not recorded (counted lost), then a new file is tried, starting with
+// the pipeline's state.
 //
 // A calibration run's recording (§8.1, daemon/power_cycle_run.hpp) is one such recording in one
 // named file, of the beams that face the target only, each range with the target's known
@@ -20,7 +21,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <ostream>
 #include <utility>
 #include <vector>
 
@@ -82,9 +82,7 @@ class Recorder {
   bool rotation_due() const;
 
   RecorderSettings settings_;
-  int fd_ = -1;
-  std::unique_ptr<io::DescriptorBuffer> buffer_;
-  std::unique_ptr<std::ostream> out_;
+  std::unique_ptr<io::DescriptorStream> file_;  // the recording being written; null while none
   std::uint64_t whole_bytes_ = 0;  // the file's bytes up to its last whole scan
   std::optional<double> failed_at_s_;  // the scan time of the last failed write
   std::unique_ptr<io::MeasuredDataWriter> writer_;

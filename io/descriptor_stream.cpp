@@ -36,4 +36,12 @@ bool DescriptorBuffer::drain() {
   return error_ == 0;
 }
 
+DescriptorStream::DescriptorStream(int fd) : std::ostream(nullptr), fd_(fd), buffer_(fd) {
+  rdbuf(&buffer_);
+}
+
+DescriptorStream::~DescriptorStream() {
+  ::close(fd_);
+}
+
 }  // namespace tofcomp::io

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <ostream>
 #include <streambuf>
 #include <string_view>
 
@@ -36,6 +37,25 @@ class DescriptorBuffer : public std::streambuf {
   int error_ = 0;
   std::uint64_t written_ = 0;
   std::array<char, kBufferBytes> buffer_{};
+};
+
+// An output stream over a descriptor it owns (closed with the stream), through a
+// DescriptorBuffer: the errno of its first failed write and the bytes it wrote. Destroying it
+// does not flush.
+class DescriptorStream : public std::ostream {
+ public:
+  explicit DescriptorStream(int fd);
+  ~DescriptorStream() override;
+  DescriptorStream(const DescriptorStream&) = delete;
+  DescriptorStream& operator=(const DescriptorStream&) = delete;
+
+  int fd() const { return fd_; }
+  int error() const { return buffer_.error(); }
+  std::uint64_t written() const { return buffer_.written(); }
+
+ private:
+  int fd_;
+  DescriptorBuffer buffer_;
 };
 
 }  // namespace tofcomp::io

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "daemon/report_throttle.hpp"
 #include "daemon/socket/client_connection.hpp"
 #include "daemon/socket/request_dispatcher.hpp"
 #include "daemon/socket/scan_fanout.hpp"
@@ -134,8 +135,7 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   std::uint64_t generation_ = 0;  // of the accept loop: a restarted server ignores the old one
   SocketServerCounters counters_;
   std::optional<FileIdentity> made_;
-  std::uint64_t refused_unlogged_ = 0;  // turned away since the last warning, not logged
-  std::optional<std::chrono::steady_clock::time_point> refusal_warned_at_;
+  ReportThrottle refusal_warnings_{kRefusalWarningInterval};
 
   awaitable<void> accept_loop(std::shared_ptr<Impl> self, std::uint64_t generation);
   void admit(Stream stream);
@@ -256,18 +256,13 @@ void SocketServer::Impl::admit(Stream stream) {
   ++counters_.refused_clients;
   // A flood of connections must not flood the log: one warning per interval, and the count of
   // those turned away unlogged meanwhile.
-  const auto now = std::chrono::steady_clock::now();
-  if (refusal_warned_at_ && now - *refusal_warned_at_ < kRefusalWarningInterval) {
-    ++refused_unlogged_;
-  } else {
+  if (const auto passed_over = refusal_warnings_.report(std::chrono::steady_clock::now())) {
     log(SocketLogLevel::Warning,
         name(*connection) + " turned away: " + std::to_string(settings_.max_clients) +
             " clients are connected (max_clients)" +
-            (refused_unlogged_ > 0 ? "; " + std::to_string(refused_unlogged_) +
-                                         " more turned away since the last warning"
-                                   : std::string()));
-    refusal_warned_at_ = now;
-    refused_unlogged_ = 0;
+            (*passed_over > 0 ? "; " + std::to_string(*passed_over) +
+                                    " more turned away since the last warning"
+                              : std::string()));
   }
   enqueue(*connection,
           std::make_shared<const std::string>(ipc::socket::encode_error_reply(

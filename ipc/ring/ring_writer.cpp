@@ -91,17 +91,15 @@ void check_ring_fits(const std::string& name, std::uint32_t slot_count, std::uin
                              std::to_string(kMaxBeamsLimit));
   }
   const std::uint64_t bytes = ring_size_for(slot_count, max_beams);
+  const std::string need = what + ": " + std::to_string(slot_count) + " slots of " +
+                           std::to_string(max_beams) + " beams need " + std::to_string(bytes) +
+                           " bytes, more than ";
   if (bytes > kMaxRingBytes) {
-    throw core::InvalidInput(what + ": " + std::to_string(slot_count) + " slots of " +
-                             std::to_string(max_beams) + " beams need " + std::to_string(bytes) +
-                             " bytes, more than the limit of " + std::to_string(kMaxRingBytes));
+    throw core::InvalidInput(need + "the limit of " + std::to_string(kMaxRingBytes));
   }
   const std::uint64_t capacity = shm_capacity_bytes();
   if (bytes > capacity) {
-    throw core::InvalidInput(what + ": " + std::to_string(slot_count) + " slots of " +
-                             std::to_string(max_beams) + " beams need " + std::to_string(bytes) +
-                             " bytes, more than " + kShmDirectory + " holds (" +
-                             std::to_string(capacity) + ")");
+    throw core::InvalidInput(need + kShmDirectory + " holds (" + std::to_string(capacity) + ")");
   }
 }
 
