@@ -20,7 +20,10 @@ constexpr std::chrono::milliseconds kHousekeepingPeriod{100};
 
 Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file,
                settings::OutputOverrides overrides)
-    : config_(std::move(config), std::move(config_file), std::move(overrides)),
+    // The stale temporaries go first, before the socket appears: a client that sees the socket
+    // sees the directory as the daemon will keep it.
+    : config_(after_removing_stale_temporaries(std::move(config)), std::move(config_file),
+              std::move(overrides)),
       recordings_([this](const std::string& why) { recalibration_.run_recording_failed(why); }),
       inputs_(config_.current(), clock_, recordings_),
       link_(io_, config_.current(), clock_,
@@ -46,16 +49,15 @@ Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file,
       recalibration_(io_, config_,
                      PowerCycleRun::Parts{link_, inputs_, recordings_, service_, clock_}) {
   recordings_.configure(config_.current().recording);
-  remove_stale_temporaries();
   spdlog::info("publishing to shm {} and socket {}", outputs_.ring().name(),
                outputs_.socket_path());
 }
 
 // The temporary files interrupted calibration writes left beside the files the daemon writes
 // (io/atomic_file.hpp): removed at start, before any write.
-void Daemon::remove_stale_temporaries() {
-  const settings::DaemonConfig& c = config_.current();
-  std::vector<std::filesystem::path> files = {c.calibration.file, c.recalibration.output};
+settings::DaemonConfig Daemon::after_removing_stale_temporaries(settings::DaemonConfig config) {
+  std::vector<std::filesystem::path> files = {config.calibration.file,
+                                              config.recalibration.output};
   for (std::size_t i = 0; i < files.size(); ++i) {
     if (files[i].empty() || (i > 0 && files[i] == files[0])) continue;
     for (const auto& removed : io::remove_stale_temporaries(files[i])) {
@@ -63,6 +65,7 @@ void Daemon::remove_stale_temporaries() {
                    files[i].string());
     }
   }
+  return config;
 }
 
 Daemon::~Daemon() {

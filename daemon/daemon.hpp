@@ -55,7 +55,8 @@ class Daemon {
  private:
   void watch_signals();
   void schedule_housekeeping();
-  void remove_stale_temporaries();
+  // Removes what interrupted writes of the calibration files left; returns `config` unchanged.
+  static settings::DaemonConfig after_removing_stale_temporaries(settings::DaemonConfig config);
 
   boost::asio::io_context io_;
   boost::asio::signal_set signals_{io_};
