@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/printable_text.hpp"
 #include "io/checked_file.hpp"
 
 namespace tofcomp::daemon {
@@ -70,7 +71,8 @@ socket::RecalibrationResult Recalibration::request(const nlohmann::json& args) {
   std::optional<std::filesystem::path> named;
   for (const auto& [key, value] : args.items()) {
     if (key != "recording") {
-      throw core::InvalidInput("args." + key + ": unknown; the one argument is recording");
+      throw core::InvalidInput("args." + core::printable(key) +
+                               ": unknown; the one argument is recording");
     }
     if (!value.is_string() || value.get<std::string>().empty()) {
       throw core::InvalidInput("args.recording: expected the path of a recording (a string)");
@@ -126,7 +128,7 @@ void Recalibration::start_training(io::CheckedFile data, int beam) {
   const settings::DaemonConfig& config = config_.current();
   const std::filesystem::path output =
       config.recalibration.output.empty() ? config.calibration.file : config.recalibration.output;
-  state_ = "training on " + data.path().string() + ", writing " + output.string();
+  state_ = "training on " + core::printable(data.path().string()) + ", writing " + output.string();
   spdlog::info("recalibration: {}", state_);
   RecalibrationWorker::Job job;
   job.recording = std::move(data);

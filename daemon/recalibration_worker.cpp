@@ -7,6 +7,7 @@
 
 #include "calibration/plausibility.hpp"
 #include "core/error.hpp"
+#include "core/printable_text.hpp"
 #include "io/calibration_file.hpp"
 
 namespace tofcomp::daemon {
@@ -47,7 +48,7 @@ RecalibrationWorker::Outcome RecalibrationWorker::work(const Job& job) {
     if (job.output.empty()) throw core::Error("no calibration file to write (calibration.file)");
     TrainingRequest request;
     request.recording = &job.recording;
-    request.source = job.recording.path().string();
+    request.source = core::printable(job.recording.path().string());  // a client may name it
     request.beam = job.beam;
     request.datasheet = job.datasheet;
     if (job.running) request.running_calibration = io::calibration_to_yaml(*job.running);

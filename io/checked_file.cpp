@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/printable_text.hpp"
 
 namespace tofcomp::io {
 
@@ -30,7 +31,9 @@ std::string kind_of(mode_t mode) {
 
 [[noreturn]] void refuse(const std::string& what, const std::filesystem::path& path,
                          const std::string& why) {
-  throw core::InvalidInput(what + " " + path.string() + ": " + why);
+  // The path may be a client's (a recording it named): escaped, so that it cannot cut or split
+  // the message and the log line that carry it.
+  throw core::InvalidInput(what + " " + core::printable(path.string()) + ": " + why);
 }
 
 // Opens name relative to dirfd (AT_FDCWD: the working directory) without blocking and, unless

@@ -26,7 +26,7 @@ ClientConnection::ClientConnection(Stream stream, std::uint64_t number, Limits l
       timer_(stream_.get_executor()),
       resume_timer_(stream_.get_executor()),
       idle_timer_(stream_.get_executor()),
-      last_line_(Clock::now()) {}
+      last_activity_(Clock::now()) {}
 
 void ClientConnection::start() {
   asio::co_spawn(stream_.get_executor(), read_loop(shared_from_this()), asio::detached);
@@ -93,7 +93,7 @@ void ClientConnection::answer_received() {
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     start = newline + 1;
     if (!line.empty()) {
-      last_line_ = Clock::now();
+      last_activity_ = Clock::now();
       owner_.on_line(*this, line);
     }
   }
@@ -180,6 +180,7 @@ awaitable<void> ClientConnection::write_loop(
     const bool was_paused = paused();
     queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(batch.size()));
     queued_bytes_ -= bytes;
+    last_activity_ = Clock::now();  // something was delivered: the connection is in use
     owner_.on_written(*this, bytes);
     if (was_paused && !paused() && accepting()) {
       // The requests that waited are answered now; the reader reads again.
@@ -193,11 +194,12 @@ awaitable<void> ClientConnection::idle_watch(
     std::shared_ptr<ClientConnection> /*keeps this alive*/) {
   for (;;) {
     boost::system::error_code ec;
-    idle_timer_.expires_at(last_line_ + limits_.idle_timeout);
+    idle_timer_.expires_at(last_activity_ + limits_.idle_timeout);
     co_await idle_timer_.async_wait(asio::redirect_error(use_awaitable, ec));
     if (!accepting()) co_return;
-    if (Clock::now() < last_line_ + limits_.idle_timeout) continue;  // a line came meanwhile
-    last_line_ = Clock::now();
+    // A line came or a line was delivered meanwhile.
+    if (Clock::now() < last_activity_ + limits_.idle_timeout) continue;
+    last_activity_ = Clock::now();
     owner_.on_idle(*this);
   }
 }

@@ -5,7 +5,8 @@
 // Back-pressure: while more than pause_bytes are queued for it, the connection answers none of
 // the requests it has received and reads no more from the socket; it goes on once the queue is
 // written down to pause_bytes, so a client that pipelines requests gets every reply in order.
-// Idle: a connection that sends no line for idle_timeout is reported to the owner.
+// Idle: a connection that sends no line and is delivered no line for idle_timeout is reported
+// to the owner.
 // Lives on the server's io_context thread; the coroutines keep it alive until they end.
 #pragma once
 
@@ -38,7 +39,8 @@ class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
     virtual void on_overlong(ClientConnection& connection) = 0;
     // bytes of queued lines were written.
     virtual void on_written(ClientConnection& connection, std::size_t bytes) = 0;
-    // No line arrived for the idle timeout (told again after each further timeout).
+    // No line arrived and none was written for the idle timeout (told again after each further
+    // timeout).
     virtual void on_idle(ClientConnection& connection) = 0;
     // The client shut its side and every request it sent is answered (once). The owner ends
     // the connection after its replies (close_after_flush) or, for a subscriber, lets it go on
@@ -89,7 +91,7 @@ class ClientConnection : public std::enable_shared_from_this<ClientConnection> {
   boost::asio::steady_timer timer_;         // wakes the writer; then times the linger
   boost::asio::steady_timer resume_timer_;  // wakes the reader when requests may go on
   boost::asio::steady_timer idle_timer_;
-  std::chrono::steady_clock::time_point last_line_;
+  std::chrono::steady_clock::time_point last_activity_;  // the last line read or written
   std::deque<std::shared_ptr<const std::string>> queue_;
   std::size_t queued_bytes_ = 0;
   std::string received_;  // bytes read and not yet answered: whole lines, then a partial one

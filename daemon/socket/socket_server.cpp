@@ -33,6 +33,9 @@ namespace {
 constexpr std::chrono::milliseconds kAcceptErrorPause{100};
 // Connections turned away (max_clients) are logged at most this often.
 constexpr std::chrono::seconds kRefusalWarningInterval{10};
+// Connections beyond max_clients kept for the users who may control the daemon (ControlPolicy),
+// so that readers holding every slot cannot keep the operator from reloading.
+constexpr std::uint64_t kOperatorSlots = 1;
 constexpr std::size_t kMaxPathBytes = sizeof(sockaddr_un::sun_path) - 1;
 
 // Where start() binds before the socket is ready: a hidden name beside the path, so that the
@@ -118,9 +121,11 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   bool running_ = false;
 
  private:
+  // Which slot a connection holds: one of max_clients, the operator's, or none (turned away).
+  enum class Slot { Regular, Operator, None };
   struct Client {
     std::shared_ptr<ClientConnection> connection;
-    bool admitted = false;
+    Slot slot = Slot::None;
     std::optional<Subscription> subscription;
   };
 
@@ -131,7 +136,8 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   asio::local::stream_protocol::acceptor acceptor_;
   std::map<std::uint64_t, Client> clients_;
   std::uint64_t next_number_ = 1;
-  std::uint64_t admitted_now_ = 0;
+  std::uint64_t admitted_now_ = 0;   // connections in the max_clients slots
+  std::uint64_t operators_now_ = 0;  // connections in the operator's slots beyond them
   std::uint64_t generation_ = 0;  // of the accept loop: a restarted server ignores the old one
   SocketServerCounters counters_;
   std::optional<FileIdentity> made_;
@@ -215,6 +221,7 @@ void SocketServer::Impl::stop() {
   clients_.clear();
   for (auto& [number, client] : clients) client.connection->close("the server stopped", false);
   admitted_now_ = 0;
+  operators_now_ = 0;
   counters_.queued_bytes = 0;
   if (made_) remove_if_same(settings_.path, *made_);
   made_.reset();
@@ -245,11 +252,19 @@ void SocketServer::Impl::admit(Stream stream) {
                                         settings_.max_queued_bytes_per_client / 2,
                                         settings_.idle_timeout};
   auto connection = std::make_shared<ClientConnection>(std::move(stream), number, limits, *this);
-  const bool admitted = admitted_now_ < settings_.max_clients;
-  clients_.emplace(number, Client{connection, admitted, std::nullopt});
-  connection->start();
-  if (admitted) {
+  // Readers cannot lock out the operator: a user who may control the daemon finds a slot of
+  // its own when max_clients are taken.
+  Slot slot = Slot::None;
+  if (admitted_now_ < settings_.max_clients) {
+    slot = Slot::Regular;
     ++admitted_now_;
+  } else if (operators_now_ < kOperatorSlots && control_.may_control(connection->peer())) {
+    slot = Slot::Operator;
+    ++operators_now_;
+  }
+  clients_.emplace(number, Client{connection, slot, std::nullopt});
+  connection->start();
+  if (slot != Slot::None) {
     ++counters_.accepted_clients;
     return;
   }
@@ -314,10 +329,12 @@ void SocketServer::Impl::publish(const ipc::CompensatedScan& scan) {
 
 SocketServerCounters SocketServer::Impl::counters() const {
   SocketServerCounters c = counters_;
-  c.clients = admitted_now_;
+  c.clients = admitted_now_ + operators_now_;
   c.subscribers = 0;
   for (const auto& [number, client] : clients_) {
-    if (client.admitted && client.subscription && client.connection->accepting()) ++c.subscribers;
+    if (client.slot != Slot::None && client.subscription && client.connection->accepting()) {
+      ++c.subscribers;
+    }
   }
   return c;
 }
@@ -355,11 +372,12 @@ void SocketServer::Impl::on_overlong(ClientConnection& connection) {
   connection.close_after_flush();
 }
 
-// A subscriber is not idle: it is there for the scans. Any other connection silent for the idle
-// timeout is told why and closed, so that silent clients cannot hold every slot.
+// A connection that sent no request and was delivered nothing for the idle timeout is told why
+// and closed, so that silent clients cannot hold every slot: a subscriber that is sent scans is
+// in use; one whose `every` or beams bring it nothing is not.
 void SocketServer::Impl::on_idle(ClientConnection& connection) {
   const auto it = clients_.find(connection.number());
-  if (it == clients_.end() || it->second.subscription) return;
+  if (it == clients_.end()) return;
   ++counters_.idle_clients_closed;
   const std::int64_t ms = settings_.idle_timeout.count();
   const std::string span =
@@ -367,8 +385,8 @@ void SocketServer::Impl::on_idle(ClientConnection& connection) {
   enqueue(connection,
           std::make_shared<const std::string>(ipc::socket::encode_error_reply(
               std::nullopt, ipc::socket::ErrorCode::Unavailable,
-              "connection: no request for " + span +
-                  " and no subscription (idle_timeout_s); closing it to free its slot")),
+              "connection: no request and nothing delivered for " + span +
+                  " (idle_timeout_s); closing it to free its slot")),
           Line::Reply);
   log(SocketLogLevel::Info, name(connection) + ": idle for " + span + "; closing its connection");
   connection.close_after_flush();
@@ -396,7 +414,8 @@ void SocketServer::Impl::on_closed(ClientConnection& connection, const std::stri
   counters_.queued_bytes -= std::min<std::uint64_t>(unwritten_bytes, counters_.queued_bytes);
   const auto it = clients_.find(connection.number());
   if (it == clients_.end()) return;
-  if (it->second.admitted) --admitted_now_;
+  if (it->second.slot == Slot::Regular) --admitted_now_;
+  if (it->second.slot == Slot::Operator) --operators_now_;
   clients_.erase(it);
   log(SocketLogLevel::Info, name(connection) + " closed: " + why);
 }

@@ -5,7 +5,8 @@
 // exceed the bound (its client is not reading) is dropped without delaying anyone else. A
 // connection's requests wait while its queue is over half the bound (back-pressure), so replies
 // never overflow it. Control requests (reload, recalibrate) are answered only for the users the
-// settings allow (by SO_PEERCRED); a connection silent for idle_timeout, not subscribed, is closed.
+// settings allow (by SO_PEERCRED), who also get one slot beyond max_clients; a connection that
+// sends no request and is delivered nothing for idle_timeout is closed.
 #pragma once
 
 #include <sys/types.h>
@@ -43,12 +44,12 @@ struct SocketServerSettings {
 };
 
 struct SocketServerCounters {
-  std::uint64_t clients = 0;                   // connected now (turned-away ones not counted)
+  std::uint64_t clients = 0;                   // connected now, the operator's slot included
   std::uint64_t subscribers = 0;               // of those, subscribed now
   std::uint64_t accepted_clients = 0;          // admitted since start
   std::uint64_t refused_clients = 0;           // turned away at max_clients
   std::uint64_t dropped_slow_clients = 0;      // closed because their queue was full
-  std::uint64_t idle_clients_closed = 0;       // closed after idle_timeout without a request
+  std::uint64_t idle_clients_closed = 0;       // closed after idle_timeout: no request, nothing sent
   std::uint64_t forbidden_requests = 0;        // control requests from users not allowed them
   std::uint64_t requests = 0;                  // request lines answered
   std::uint64_t errors = 0;                    // of those, answered with an error

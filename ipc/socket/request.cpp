@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/printable_text.hpp"
+
 namespace tofcomp::ipc::socket {
 
 namespace {
@@ -35,11 +37,12 @@ const std::array<OpSpec, 8>& op_specs() {
   return specs;
 }
 
-// A piece of the input quoted in a message: at most 64 bytes of it.
+// A piece of the input quoted in a message: at most 64 bytes of it, control characters escaped
+// (a "\u0000" in a JSON string is a NUL once parsed).
 std::string quote_input(std::string_view text) {
   constexpr std::size_t kMax = 64;
-  if (text.size() <= kMax) return "'" + std::string(text) + "'";
-  return "'" + std::string(text.substr(0, kMax)) + "...'";
+  if (text.size() <= kMax) return "'" + core::printable(text) + "'";
+  return "'" + core::printable(text.substr(0, kMax)) + "...'";
 }
 
 // The parser's complaint without its "[json.exception...] " prefix, at most 160 bytes.
@@ -48,7 +51,7 @@ std::string json_complaint(const json::exception& e) {
   const auto bracket = what.find("] ");
   if (bracket != std::string::npos) what.erase(0, bracket + 2);
   if (what.size() > 160) what = what.substr(0, 160) + "...";
-  return what;
+  return core::printable(what);  // it quotes what it last read of the input
 }
 
 // Thrown by the parse guard below: a request the JSON parser itself would accept, refused.

@@ -22,7 +22,7 @@ inline constexpr std::size_t kDefaultMaxQueuedBytesPerClient = 1u << 20;
 inline constexpr std::size_t kSmallestMaxQueuedBytesPerClient = 4096;
 inline constexpr std::size_t kLargestMaxQueuedBytesPerClient = 1u << 30;
 
-// A connection that sends no request for this long and is not subscribed is closed, so that
+// A connection that sends no request and is delivered nothing for this long is closed, so that
 // silent clients cannot hold every slot.
 inline constexpr std::chrono::seconds kDefaultIdleTimeout{60};
 inline constexpr std::chrono::seconds kLargestIdleTimeout{86400};

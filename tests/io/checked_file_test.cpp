@@ -75,6 +75,15 @@ TEST_F(CheckedFileTest, AMissingFileIsNamed) {
             "recording " + (dir_ / "gone.csv").string() + ": does not exist");
 }
 
+// A name from outside cannot cut or split the message that carries it (issue 53: a "\n" in a
+// file name reached the log raw): its control characters are escaped.
+TEST_F(CheckedFileTest, ControlCharactersOfANameAreEscapedInTheMessage) {
+  constexpr char kName[] = "a\nforged line\x1b[2J\0b.csv";
+  const fs::path named = dir_ / std::string(kName, sizeof kName - 1);
+  EXPECT_EQ(refusal([&] { open_checked_file(named, 100, "recording", "cap"); }),
+            "recording " + dir_.string() + "/a\\nforged line\\x1B[2J\\x00b.csv: does not exist");
+}
+
 TEST_F(CheckedFileTest, InADirectoryOnlyAFileDirectlyInItAndNoLink) {
   write("in.csv", "time_s\n");
   fs::create_directory(dir_ / "sub");

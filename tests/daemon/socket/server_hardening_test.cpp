@@ -1,8 +1,8 @@
 // The server against clients that read but may not control, that stay silent, and that pipeline
 // requests (issue 15): control requests are answered forbidden for users other than the
 // daemon's own and root (by SO_PEERCRED, here a real process of another user); a silent client's
-// slot is freed after the idle timeout, a silent subscriber's is not; a client that sends many
-// requests at once and then reads gets every reply, in order.
+// slot is freed after the idle timeout, a silent subscriber's only while nothing is delivered;
+// a client that sends many requests at once and then reads gets every reply, in order.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -134,8 +134,8 @@ TEST(ServerIdleTimeout, ASilentClientsSlotIsFreed) {
   const json told = read_json_line(silent, kTimeout);
   EXPECT_EQ(told["error"]["code"], "unavailable");
   EXPECT_EQ(told["error"]["message"],
-            "connection: no request for 200 ms and no subscription (idle_timeout_s); closing it to "
-            "free its slot");
+            "connection: no request and nothing delivered for 200 ms (idle_timeout_s); closing it "
+            "to free its slot");
   EXPECT_THROW(silent.read_line(kTimeout), SocketClosed);
   ASSERT_TRUE(h.wait_for_counters([](const auto& c) { return c.clients == 0; }));
   // Its slot is free: the next client is served.
@@ -144,21 +144,37 @@ TEST(ServerIdleTimeout, ASilentClientsSlotIsFreed) {
   EXPECT_EQ(h.counters().idle_clients_closed, 1u);
 }
 
-TEST(ServerIdleTimeout, ASubscriberIsNotIdle) {
+// Idle is "no request and nothing delivered" (issue 53: subscribers whose `every` brought them
+// nothing held their slots for ever): a subscriber sent scans stays, however silent; one whose
+// subscription brings it nothing is told and closed like any silent client.
+TEST(ServerIdleTimeout, ASubscriberIsIdleOnlyWhileNothingIsDeliveredToIt) {
   sock::SocketServerSettings settings;
-  settings.idle_timeout = 100ms;
+  settings.idle_timeout = 2s;
   SocketHarness h(settings);
   h.start_server();
-  SocketClient subscriber(h.path(), kTimeout);
-  ASSERT_TRUE(subscriber.call({{"op", "subscribe"}, {"beams", {0, 0}}}, kTimeout)["ok"]);
-  SocketClient silent(h.path(), kTimeout);
-  // The silent one goes; the subscriber, as silent, stays and gets the next scan.
-  EXPECT_EQ(read_json_line(silent, kTimeout)["error"]["code"], "unavailable");
-  ASSERT_TRUE(h.wait_for_counters([](const auto& c) { return c.idle_clients_closed == 1; }));
-  std::this_thread::sleep_for(3 * settings.idle_timeout);  // three more idle periods
-  h.publish(make_scan(7));
-  const json event = read_json_line(subscriber, kTimeout);
-  EXPECT_EQ(event["scan"]["sequence"], 7);
+  SocketClient served(h.path(), kTimeout);
+  ASSERT_TRUE(served.call({{"op", "subscribe"}, {"beams", {0, 0}}}, kTimeout)["ok"]);
+  SocketClient starved(h.path(), kTimeout);
+  ASSERT_TRUE(starved.call({{"op", "subscribe"}, {"every", 1000000}}, kTimeout)["ok"]);
+  // Scans every 20 ms (a hundredth of the timeout) until the starved subscriber is closed.
+  std::uint64_t sequence = 1;  // never a multiple of 1000000 here: the starved one gets none
+  const auto until = std::chrono::steady_clock::now() + kTimeout;
+  while (h.counters().idle_clients_closed == 0 && std::chrono::steady_clock::now() < until) {
+    h.publish(make_scan(sequence++, 1));
+    std::this_thread::sleep_for(20ms);
+  }
+  const json told = read_json_line(starved, kTimeout);
+  EXPECT_EQ(told["error"]["code"], "unavailable");
+  EXPECT_EQ(told["error"]["message"],
+            "connection: no request and nothing delivered for 2 s (idle_timeout_s); closing it "
+            "to free its slot");
+  EXPECT_THROW(starved.read_line(kTimeout), SocketClosed);
+  // The served one got every scan and is still served.
+  for (std::uint64_t s = 1; s < sequence; ++s) {
+    EXPECT_EQ(read_json_line(served, kTimeout)["scan"]["sequence"], s);
+  }
+  h.publish(make_scan(sequence, 1));
+  EXPECT_EQ(read_json_line(served, kTimeout)["scan"]["sequence"], sequence);
   EXPECT_EQ(h.counters().idle_clients_closed, 1u);
 }
 

@@ -2,6 +2,8 @@
 // cleanly after the answer; clients beyond max_clients get an error line and are closed.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 
 #include "ipc/socket/client.hpp"
@@ -68,6 +70,7 @@ TEST(ServerLimits, RequestsBeforeTheOverLongOneAreAnswered) {
 TEST(ServerLimits, ClientsBeyondMaxClientsGetAnErrorLineAndAreClosed) {
   sock::SocketServerSettings settings;
   settings.max_clients = 2;
+  settings.control_uids = {::geteuid() + 4242};  // this test's user only reads: no operator slot
   SocketHarness h(settings);
   h.start_server();
   auto a = std::make_unique<SocketClient>(h.path(), kTimeout);
@@ -93,6 +96,7 @@ TEST(ServerLimits, ClientsBeyondMaxClientsGetAnErrorLineAndAreClosed) {
 TEST(ServerLimits, ConnectionsTurnedAwayAreLoggedAtARateLimit) {
   sock::SocketServerSettings settings;
   settings.max_clients = 1;
+  settings.control_uids = {::geteuid() + 4242};  // a reader: no operator slot
   SocketHarness h(settings);
   h.start_server();
   SocketClient admitted(h.path(), kTimeout);
@@ -112,6 +116,34 @@ TEST(ServerLimits, ConnectionsTurnedAwayAreLoggedAtARateLimit) {
   // One warning per 10 s begun (the loop above takes well under a second here).
   EXPECT_GE(warnings, 1);
   EXPECT_LE(warnings, 1 + elapsed / std::chrono::seconds(10));
+}
+
+// Readers holding every slot cannot lock out the operator (issue 53: 16 subscribers and root's
+// reload got "too many clients"): a user who may control the daemon gets one slot beyond
+// max_clients, one only, and its slot is free again once it goes.
+TEST(ServerLimits, TheOperatorHasASlotBeyondMaxClients) {
+  sock::SocketServerSettings settings;
+  settings.max_clients = 2;  // this test's user is the server's own: it may control
+  SocketHarness h(settings);
+  h.start_server();
+  SocketClient a(h.path(), kTimeout);
+  SocketClient b(h.path(), kTimeout);
+  ASSERT_TRUE(a.call({{"op", "subscribe"}}, kTimeout)["ok"]);
+  ASSERT_TRUE(b.call({{"op", "subscribe"}}, kTimeout)["ok"]);
+  {
+    SocketClient operator_client(h.path(), kTimeout);
+    EXPECT_TRUE(operator_client.call({{"op", "reload"}}, kTimeout)["ok"]);
+    EXPECT_EQ(h.on_io([&] { return h.daemon().reloads; }), 1);
+    EXPECT_EQ(h.counters().clients, 3u);
+    // The operator's slot is one: a second operator connection meanwhile is turned away.
+    SocketClient second(h.path(), kTimeout);
+    EXPECT_EQ(read_json_line(second, kTimeout)["error"]["code"], "unavailable");
+    expect_clean_close(second);
+  }
+  ASSERT_TRUE(h.wait_for_counters([](const auto& k) { return k.clients == 2; }));
+  SocketClient again(h.path(), kTimeout);
+  EXPECT_TRUE(again.call({{"op", "reload"}}, kTimeout)["ok"]);
+  EXPECT_EQ(h.counters().refused_clients, 1u);
 }
 
 TEST(ServerLimits, SettingsAreValidatedNamingTheSetting) {

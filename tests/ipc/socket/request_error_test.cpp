@@ -32,6 +32,10 @@ TEST_P(RequestError, CodeFieldAndId) {
     EXPECT_EQ(to_string(e.code()), to_string(c.code));
     EXPECT_EQ(std::string(e.what()).substr(0, c.message_start.size()), c.message_start) << e.what();
     EXPECT_EQ(e.id(), c.id) << e.what();
+    // What came from the request is escaped: no control character reaches the message.
+    for (const char ch : std::string(e.what())) {
+      EXPECT_FALSE(static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) << e.what();
+    }
   }
 }
 
@@ -64,6 +68,14 @@ INSTANTIATE_TEST_SUITE_P(
                        "op: must be a string, not an integer", json("q")},
         BadRequestCase{R"({"op":"fetch","id":"x"})", ErrorCode::UnknownOp,
                        "op: 'fetch' is not an op", json("x")},
+        // A NUL, a line end or an escape sequence sent as JSON escapes (issue 53: "\u0000" cut
+        // the message at the NUL) reaches the message escaped, whole.
+        BadRequestCase{R"({"op":"status","a\u0000b":1})", ErrorCode::BadRequest,
+                       "'a\\x00b': not a field of op 'status' (its fields: id, op)", {}},
+        BadRequestCase{R"({"op":"fe\ntch\u001b[2J"})", ErrorCode::UnknownOp,
+                       "op: 'fe\\ntch\\x1B[2J' is not an op; the ops are", {}},
+        BadRequestCase{"{\"op\":\"status\"\t\x01}", ErrorCode::BadRequest,
+                       "request: not valid JSON", {}},
         BadRequestCase{R"({"op":"LATEST","id":2})", ErrorCode::UnknownOp,
                        "op: 'LATEST' is not an op", json(2)},
         BadRequestCase{R"({"op":"subscribe","format":"cbor"})", ErrorCode::BadRequest,
