@@ -17,6 +17,10 @@ namespace tofcomp::calibration {
 // the reason no lasing mode is narrower than the rounding's own spread (training's variance
 // floor, calibration/training.hpp).
 inline constexpr double kRangeResolutionMm = 1.0;
+// Ranges rounded to whole millimetres carry the rounding's variance h²/12 (Sheppard) in every
+// mode: a mode narrower than that is the rounding's lattice, not a lasing mode, and left free EM
+// would lock a mode onto one rounded value (the likelihood of rounded data is unbounded).
+inline double rounding_variance_mm2() { return kRangeResolutionMm * kRangeResolutionMm / 12.0; }
 // The LMS 200's other range unit (its cm units: the 8 m mode then reaches 80 m).
 inline constexpr double kCentimetreRangeStepMm = 10.0;
 

@@ -20,11 +20,6 @@ constexpr double kNoiseShare = 0.2;
 constexpr double kSearchShare = 0.8;
 constexpr double kJunctionShare = 0.9;
 
-// Ranges rounded to whole millimetres carry the rounding's variance h²/12 (Sheppard) in every
-// mode: a mode narrower than that is the rounding's lattice, not a lasing mode, and left free EM
-// would lock a mode onto one rounded value (the likelihood of rounded data is unbounded).
-double rounding_variance() { return kRangeResolutionMm * kRangeResolutionMm / 12.0; }
-
 // The paper's structure (§8), kept when a record is too short to choose one.
 constexpr const char* kPaperBasis = "polynomial:4";
 constexpr int kPaperModes = 2;
@@ -69,7 +64,7 @@ TrainSettings structure_search_settings(const TrainSettings& settings,
                                         const core::ParallelFor& runner) {
   TrainSettings out = settings;
   if (!out.search.em.parallel_for) out.search.em.parallel_for = runner;
-  out.search.em.variance_floor = std::max(out.search.em.variance_floor, rounding_variance());
+  out.search.em.variance_floor = std::max(out.search.em.variance_floor, rounding_variance_mm2());
   out.search.resolution = kRangeResolutionMm;
   return out;
 }
@@ -203,7 +198,7 @@ Training train_calibration(const MeasuredData& data, const TrainSettings& settin
   const Eigen::VectorXd y_minus_d = fit_data.range_mm - fit_data.true_range_mm;
 
   core::EmTrainOptions em = settings.em;
-  em.variance_floor = std::max(em.variance_floor, rounding_variance());
+  em.variance_floor = std::max(em.variance_floor, rounding_variance_mm2());
   // Every fit's sweeps on the threads asked for (the fits' answers do not depend on them).
   const core::ParallelFor runner = parallel_runner(settings.threads);
   if (!em.parallel_for) em.parallel_for = runner;

@@ -1,0 +1,224 @@
+// Training in the field: see field_training.hpp.
+#include "calibration/field_training.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "calibration/junction_estimate.hpp"
+#include "calibration/measured_data_reader.hpp"
+#include "core/error.hpp"
+#include "io/utc_time.hpp"
+#include "io/version.hpp"
+
+namespace tofcomp::calibration {
+namespace {
+
+// The share of the progress the per-beam stage (junction, still episodes) takes; the fit the rest.
+constexpr double kBeamsShare = 0.4;
+
+std::vector<int> beams_of(const io::MeasurementTable& table) {
+  std::set<int> beams;
+  for (const io::MeasurementRow& row : table.rows) {
+    if (row.range_mm) beams.insert(row.beam.value_or(0));
+  }
+  return {beams.begin(), beams.end()};
+}
+
+double still_gate_mm(const core::MixtureParameters& modes) {
+  return modes.mean.maxCoeff() - modes.mean.minCoeff() +
+         kStillGateModeSpreads * std::sqrt(modes.variance.maxCoeff()) + kRangeResolutionMm;
+}
+
+// The spread of an episode's ranges: a reading that never varies (half of them or more at one
+// value, the interquartile range zero) is a code the device reports, not a surface seen through
+// its lasing modes, whose spread the datasheet puts at 5 mm (1σ).
+bool varies(std::vector<double> values) {
+  const auto quartile = [&](std::size_t at) {
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(at),
+                     values.end());
+    return values[at];
+  };
+  const std::size_t n = values.size();
+  return quartile(3 * n / 4) > quartile(n / 4);
+}
+
+// The ranges the fit takes, gathered over every beam of every record.
+struct FieldRanges {
+  std::vector<double> junction_c;
+  std::vector<double> y;  // the range, or the range less its known distance
+  std::vector<int> episode;
+  int episodes = 0;
+  long with_reference = 0;
+};
+
+// One beam: its junction temperatures, its ranges of known distance, its still episodes.
+BeamStillness gather_beam(const MeasuredData& data, const core::Calibration& bench,
+                          const core::StillEpisodeOptions& still, FieldRanges& out) {
+  BeamStillness b;
+  b.source = data.source;
+  b.beam = data.beam;
+  b.ranges = static_cast<long>(data.range_mm.size());
+  if (data.range_mm.size() == 0) return b;
+  const SmoothedJunction junction =
+      junction_at_ranges(data, bench.thermal, bench.kalman_noise, bench.ambient_c);
+  std::vector<Eigen::Index> unknown;
+  for (Eigen::Index k = 0; k < data.range_mm.size(); ++k) {
+    if (data.has_true_range[static_cast<std::size_t>(k)]) {
+      out.junction_c.push_back(junction.junction_c[k]);
+      out.y.push_back(data.range_mm[k] - data.true_range_mm[k]);
+      out.episode.push_back(core::kKnownDistance);
+      ++b.with_reference;
+    } else {
+      unknown.push_back(k);
+    }
+  }
+  out.with_reference += b.with_reference;
+  if (unknown.empty()) return b;
+  const Eigen::VectorXd time_s = data.range_time_s(unknown);
+  const Eigen::VectorXd range_mm = data.range_mm(unknown);
+  const core::StillSegmentation s = core::find_still_episodes(time_s, range_mm, still);
+  // Episodes whose ranges do not vary are codes, not surfaces: set apart with the rest.
+  std::vector<int> number(s.episodes.size(), core::kSetApart);
+  std::vector<std::vector<double>> values(s.episodes.size());
+  for (std::size_t i = 0; i < unknown.size(); ++i) {
+    if (s.episode[i] != core::kSetApart) {
+      values[static_cast<std::size_t>(s.episode[i])].push_back(range_mm[static_cast<Eigen::Index>(i)]);
+    }
+  }
+  for (std::size_t e = 0; e < s.episodes.size(); ++e) {
+    if (varies(values[e])) number[e] = out.episodes + static_cast<int>(b.episodes++);
+  }
+  out.episodes += static_cast<int>(b.episodes);
+  for (std::size_t i = 0; i < unknown.size(); ++i) {
+    const int e = s.episode[i];
+    if (e == core::kSetApart || number[static_cast<std::size_t>(e)] == core::kSetApart) {
+      ++b.set_apart;
+      continue;
+    }
+    const Eigen::Index k = unknown[i];
+    out.junction_c.push_back(junction.junction_c[k]);
+    out.y.push_back(data.range_mm[k]);
+    out.episode.push_back(number[static_cast<std::size_t>(e)]);
+    ++b.still;
+  }
+  return b;
+}
+
+// Shifts the constant so that the field bias H(t)θ + Σπμ equals the bench calibration's over the
+// bench's junction band: the modes' means move by c and the distances by −c (the fit's one free
+// direction, core/field_em.hpp). Returns c.
+double match_bench_band(const core::Calibration& bench, const core::Basis& basis,
+                        core::FieldEmResult& em) {
+  const core::TemperatureRange band = *bench.model.trained_junction_c;
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(kBandMatchPoints, band.min_c, band.max_c);
+  const Eigen::VectorXd bench_bias =
+      bench.model.bias(t).array() + bench.model.mixture.mean_offset();
+  const Eigen::VectorXd field_bias =
+      (basis.design_matrix(t) * em.theta).array() + em.mixture.mean_offset();
+  const double shift = (bench_bias - field_bias).mean();
+  em.mixture.mean.array() += shift;
+  em.episode_distance.array() -= shift;
+  return shift;
+}
+
+std::string sources_of(const std::vector<FieldRecord>& records) {
+  std::string joined;
+  for (const auto& r : records) joined += (joined.empty() ? "" : ", ") + r.source;
+  return joined;
+}
+
+}  // namespace
+
+FieldTraining train_in_field(const std::vector<FieldRecord>& records,
+                             const core::Calibration& bench, const FieldTrainSettings& settings,
+                             const FieldProgress& progress) {
+  const auto report = [&](double share, const std::string& stage) {
+    if (progress) progress(share, stage);
+  };
+  if (!bench.model.trained_junction_c) {
+    throw core::InvalidInput(
+        "the bench calibration names no junction band (trained_junction_c): the field fit "
+        "matches its constant to the bench's there");
+  }
+  FieldTraining t;
+  core::StillEpisodeOptions still = settings.still;
+  if (still.gate_mm == 0.0) still.gate_mm = still_gate_mm(bench.model.mixture);
+  t.gate_mm = still.gate_mm;
+
+  FieldRanges ranges;
+  std::size_t beams_total = 0;
+  std::vector<std::vector<int>> beams(records.size());
+  for (std::size_t r = 0; r < records.size(); ++r) {
+    beams[r] = beams_of(records[r].table);
+    beams_total += beams[r].size();
+  }
+  std::size_t done = 0;
+  for (std::size_t r = 0; r < records.size(); ++r) {
+    for (const int beam : beams[r]) {
+      report(kBeamsShare * static_cast<double>(done++) / static_cast<double>(beams_total),
+             records[r].source + ", beam " + std::to_string(beam));
+      const MeasuredData data = measured_data_from_table(records[r].table, records[r].source, beam);
+      t.beams.push_back(gather_beam(data, bench, still, ranges));
+    }
+  }
+  if (ranges.episodes == 0 && ranges.with_reference == 0) {
+    throw core::InvalidInput("field training: no beam of " + sources_of(records) +
+                             " holds a still surface (a still episode of at least " +
+                             std::to_string(static_cast<int>(still.min_episode_s)) +
+                             " s within " + std::to_string(still.gate_mm) +
+                             " mm of its level) and no range has a reference distance");
+  }
+  t.episodes = ranges.episodes;
+  t.ranges_with_reference = ranges.with_reference;
+  t.ranges_used = static_cast<long>(ranges.y.size());
+
+  const auto k = static_cast<Eigen::Index>(ranges.y.size());
+  const Eigen::Map<const Eigen::VectorXd> junction_c(ranges.junction_c.data(), k);
+  const Eigen::Map<const Eigen::VectorXd> y(ranges.y.data(), k);
+  // The bench's basis family and order, on the junction temperatures the records span.
+  const core::Basis basis(bench.model.basis.terms(),
+                          core::TemperatureScaling::spanning(junction_c));
+  const Eigen::MatrixXd h = basis.design_matrix(junction_c);
+  core::FieldEmOptions options;
+  options.modes = bench.model.mixture.modes();
+  options.variance_floor = rounding_variance_mm2();
+  options.max_iterations = settings.max_iterations;
+  options.start = core::EmStartingPoint{Eigen::VectorXd(0), bench.model.mixture};
+  report(kBeamsShare, "EM over " + std::to_string(k) + " ranges, " +
+                          std::to_string(ranges.episodes) + " still episodes");
+  t.em = core::train_field_em(h, y, ranges.episode, ranges.episodes, options);
+  if (t.em.distance_determined) {
+    t.constant = "pinned by " + std::to_string(ranges.with_reference) +
+                 " ranges of known distance";
+  } else {
+    const double shift = match_bench_band(bench, basis, t.em);
+    std::ostringstream words;
+    words << "matched to the bench calibration's bias over its junction band "
+          << bench.model.trained_junction_c->min_c << " to "
+          << bench.model.trained_junction_c->max_c << " °C (shift " << shift << " mm)";
+    t.constant = words.str();
+  }
+
+  core::Calibration& c = t.calibration;
+  c = bench;
+  c.model.basis = basis;
+  c.model.theta = t.em.theta;
+  c.model.mixture = t.em.mixture;
+  c.model.trained_junction_c = core::TemperatureRange{junction_c.minCoeff(), junction_c.maxCoeff()};
+  c.extension.reset();  // the bench's extension was fitted to the bench's bias, not this one
+  c.provenance.data_set = sources_of(records);
+  c.provenance.created_utc = io::utc_now();
+  c.provenance.software_version = std::string("tofcomp ") + io::kVersion;
+  c.provenance.samples = t.ranges_used;
+  c.provenance.notes = "field training from the bench calibration of " +
+                       bench.provenance.data_set + ": " + std::to_string(t.episodes) +
+                       " still episodes; the constant " + t.constant + "; EM " +
+                       std::to_string(t.em.iterations) + " iterations" +
+                       (t.em.converged ? "" : " (iteration cap reached)");
+  report(1.0, "done");
+  return t;
+}
+
+}  // namespace tofcomp::calibration
