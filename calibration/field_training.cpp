@@ -8,6 +8,7 @@
 
 #include "calibration/junction_estimate.hpp"
 #include "calibration/measured_data_reader.hpp"
+#include "calibration/still_surfaces.hpp"
 #include "core/error.hpp"
 #include "io/utc_time.hpp"
 #include "io/version.hpp"
@@ -26,26 +27,9 @@ std::vector<int> beams_of(const io::MeasurementTable& table) {
   return {beams.begin(), beams.end()};
 }
 
-double still_gate_mm(const core::MixtureParameters& modes) {
-  return modes.mean.maxCoeff() - modes.mean.minCoeff() +
-         kStillGateModeSpreads * std::sqrt(modes.variance.maxCoeff()) + kRangeResolutionMm;
-}
-
-// The spread of an episode's ranges: a reading that never varies (half of them or more at one
-// value, the interquartile range zero) is a code the device reports, not a surface seen through
-// its lasing modes, whose spread the datasheet puts at 5 mm (1σ).
-bool varies(std::vector<double> values) {
-  const auto quartile = [&](std::size_t at) {
-    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(at),
-                     values.end());
-    return values[at];
-  };
-  const std::size_t n = values.size();
-  return quartile(3 * n / 4) > quartile(n / 4);
-}
-
 // The ranges the fit takes, gathered over every beam of every record.
 struct FieldRanges {
+  std::vector<double> time_s;
   std::vector<double> junction_c;
   std::vector<double> y;  // the range, or the range less its known distance
   std::vector<int> episode;
@@ -66,6 +50,7 @@ BeamStillness gather_beam(const MeasuredData& data, const core::Calibration& ben
   std::vector<Eigen::Index> unknown;
   for (Eigen::Index k = 0; k < data.range_mm.size(); ++k) {
     if (data.has_true_range[static_cast<std::size_t>(k)]) {
+      out.time_s.push_back(data.range_time_s[k]);
       out.junction_c.push_back(junction.junction_c[k]);
       out.y.push_back(data.range_mm[k] - data.true_range_mm[k]);
       out.episode.push_back(core::kKnownDistance);
@@ -78,31 +63,22 @@ BeamStillness gather_beam(const MeasuredData& data, const core::Calibration& ben
   if (unknown.empty()) return b;
   const Eigen::VectorXd time_s = data.range_time_s(unknown);
   const Eigen::VectorXd range_mm = data.range_mm(unknown);
-  const core::StillSegmentation s = core::find_still_episodes(time_s, range_mm, still);
-  // Episodes whose ranges do not vary are codes, not surfaces: set apart with the rest.
-  std::vector<int> number(s.episodes.size(), core::kSetApart);
-  std::vector<std::vector<double>> values(s.episodes.size());
-  for (std::size_t i = 0; i < unknown.size(); ++i) {
-    if (s.episode[i] != core::kSetApart) {
-      values[static_cast<std::size_t>(s.episode[i])].push_back(range_mm[static_cast<Eigen::Index>(i)]);
-    }
-  }
-  for (std::size_t e = 0; e < s.episodes.size(); ++e) {
-    if (varies(values[e])) number[e] = out.episodes + static_cast<int>(b.episodes++);
-  }
-  out.episodes += static_cast<int>(b.episodes);
+  const core::StillSegmentation s = still_surfaces(time_s, range_mm, bench.model.mixture, still);
+  b.episodes = static_cast<long>(s.episodes.size());
   for (std::size_t i = 0; i < unknown.size(); ++i) {
     const int e = s.episode[i];
-    if (e == core::kSetApart || number[static_cast<std::size_t>(e)] == core::kSetApart) {
+    if (e == core::kSetApart) {
       ++b.set_apart;
       continue;
     }
     const Eigen::Index k = unknown[i];
+    out.time_s.push_back(data.range_time_s[k]);
     out.junction_c.push_back(junction.junction_c[k]);
     out.y.push_back(data.range_mm[k]);
-    out.episode.push_back(number[static_cast<std::size_t>(e)]);
+    out.episode.push_back(out.episodes + e);
     ++b.still;
   }
+  out.episodes += static_cast<int>(b.episodes);
   return b;
 }
 
@@ -177,15 +153,23 @@ FieldTraining train_in_field(const std::vector<FieldRecord>& records,
   const auto k = static_cast<Eigen::Index>(ranges.y.size());
   const Eigen::Map<const Eigen::VectorXd> junction_c(ranges.junction_c.data(), k);
   const Eigen::Map<const Eigen::VectorXd> y(ranges.y.data(), k);
-  // The bench's basis family and order, on the junction temperatures the records span.
-  const core::Basis basis(bench.model.basis.terms(),
-                          core::TemperatureScaling::spanning(junction_c));
-  const Eigen::MatrixXd h = basis.design_matrix(junction_c);
   core::FieldEmOptions options;
   options.modes = bench.model.mixture.modes();
   options.variance_floor = rounding_variance_mm2();
   options.max_iterations = settings.max_iterations;
   options.start = core::EmStartingPoint{Eigen::VectorXd(0), bench.model.mixture};
+  // The bench's basis family on the junction temperatures the records span; a Legendre
+  // polynomial's order chosen again there.
+  std::vector<core::BasisTerm> terms = bench.model.basis.terms();
+  if (terms.size() == 1 && terms[0].kind == core::BasisKind::Polynomial &&
+      terms[0].form == core::PolynomialForm::Legendre) {
+    report(kBeamsShare, "choosing the basis order on held-out time blocks");
+    const Eigen::Map<const Eigen::VectorXd> time_s(ranges.time_s.data(), k);
+    t.order = choose_field_order(junction_c, y, ranges.episode, ranges.episodes, time_s, options);
+    terms[0].order = t.order->order;
+  }
+  const core::Basis basis(terms, core::TemperatureScaling::spanning(junction_c));
+  const Eigen::MatrixXd h = basis.design_matrix(junction_c);
   report(kBeamsShare, "EM over " + std::to_string(k) + " ranges, " +
                           std::to_string(ranges.episodes) + " still episodes");
   t.em = core::train_field_em(h, y, ranges.episode, ranges.episodes, options);

@@ -4,16 +4,19 @@
 // field_em.hpp), so a wall seen over the temperatures a day brings teaches the bias there, where
 // no bench reached. A bench calibration gives what ranges of unknown distance cannot: the thermal
 // network and Kalman noise that put a junction temperature on every range (§3), the basis family
-// and the number of modes, and the constant the distances and the bias share. Ranges of a record
+// (a Legendre polynomial's order is chosen again over the temperatures the records span) and the
+// number of modes, and the constant the distances and the bias share. Ranges of a record
 // with a reference (true_range_mm) enter the same fit with their distance known and pin that
 // constant themselves; without any, the bias is matched to the bench calibration's over the
 // bench's junction band.
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "calibration/field_structure.hpp"
 #include "core/calibration.hpp"
 #include "core/field_em.hpp"
 #include "core/still_episodes.hpp"
@@ -27,15 +30,11 @@ struct FieldRecord {
   std::string source;
 };
 
-// A still range lies within this many of the widest mode's σ of the surface's level, beyond the
-// modes' own spacing (a lasing mode's range falls outside with probability 6e-5).
-inline constexpr double kStillGateModeSpreads = 4.0;
 // Points of the bench's junction band over which the field bias is matched to the bench's.
 inline constexpr int kBandMatchPoints = 101;
 
 struct FieldTrainSettings {
-  // gate_mm 0: from the bench calibration's modes, (μ_max − μ_min) + kStillGateModeSpreads ×
-  // σ_max + the range resolution.
+  // gate_mm 0: from the bench calibration's modes (calibration/still_surfaces.hpp).
   core::StillEpisodeOptions still;
   int max_iterations = 5000;
 };
@@ -59,6 +58,9 @@ struct FieldTraining {
   long ranges_with_reference = 0;
   int episodes = 0;
   double gate_mm = 0.0;
+  // The Legendre order chosen on held-out time blocks (calibration/field_structure.hpp); absent
+  // when the bench's basis is not one Legendre polynomial (its terms are kept).
+  std::optional<FieldOrderChoice> order;
   // How the constant d and the bias share was fixed, in words.
   std::string constant;
 };

@@ -8,8 +8,12 @@
 // ranges outside it settle on a level of their own: when the last of them have stayed within
 // the gate of their own median for `settle_s` (and at least `level_ranges` of them), the beam
 // sees a new surface (a pallet put down, a door shut) and a new episode starts with them.
-// Episodes shorter than `min_episode_s` are set apart too: a minute of one surface carries no
-// temperature change to learn from, and a person standing still is not a wall.
+// Episodes shorter than `min_episode_s` are set apart too: what a still surface teaches the
+// calibration is the bias's change over the temperatures it is seen through, and the scanner's
+// case changes temperature on the scale of its thermal time constant (R2·C2: 0.40 K/W × 5,800 J/K,
+// about 40 minutes, in the first foreign set's network), so a surface seen for a few minutes
+// teaches nothing its own distance does not absorb; and a person standing or a forklift parked
+// for minutes is not a wall.
 // O(level_ranges) per range; no allocation beyond the two buffers.
 #pragma once
 
@@ -24,7 +28,7 @@ struct StillEpisodeOptions {
   double gate_mm = 0.0;        // required: the largest distance of a still range from the level
   int level_ranges = 31;       // the running median's length (odd)
   double settle_s = 5.0;       // a new surface is one held this long
-  double min_episode_s = 60.0;  // shorter episodes are set apart
+  double min_episode_s = 600.0;  // shorter episodes are set apart
 };
 
 struct StillEpisode {

@@ -35,6 +35,16 @@ RecordingGeometry geometry_of_rows(const MeasurementTable& table, const std::str
   return {beams, kUnknownAngle, kUnknownAngle};
 }
 
+// The '# beams' line's value as a count of beams; throws naming the line when it is none.
+std::size_t whole_beams(double beams, const std::string& source) {
+  if (beams < 1 || beams > static_cast<double>(kMaxRecordingBeams) || beams != std::floor(beams)) {
+    throw core::InvalidInput(source + ": metadata '" + kRecordingBeamsKey +
+                             "' must be a whole number of beams from 1 to " +
+                             std::to_string(kMaxRecordingBeams));
+  }
+  return static_cast<std::size_t>(beams);
+}
+
 }  // namespace
 
 RecordingGeometry read_recording_geometry(const MeasurementTable& table,
@@ -55,7 +65,13 @@ RecordingGeometry read_recording_geometry(const MeasurementTable& table,
     }
     *target = value;
   }
-  if (!beams && !start && !resolution) return geometry_of_rows(table, source);
+  // The angles make a recording's geometry; a beam count alone is measured data's own metadata
+  // (free keys, data-format.md: a logger's "# beams: 8"), the rows then name the beams.
+  if (!start && !resolution) {
+    RecordingGeometry rows = geometry_of_rows(table, source);
+    if (beams) rows.beams = std::max(rows.beams, whole_beams(*beams, source));
+    return rows;
+  }
   if (!beams || !start || !resolution) {
     std::string missing;
     for (const auto& [line, key] :
@@ -68,13 +84,7 @@ RecordingGeometry read_recording_geometry(const MeasurementTable& table,
                              kRecordingResolutionKey + "' go together (missing " + missing +
                              "); measured data has none of them");
   }
-  if (*beams < 1 || *beams > static_cast<double>(kMaxRecordingBeams) ||
-      *beams != std::floor(*beams)) {
-    throw core::InvalidInput(source + ": metadata '" + kRecordingBeamsKey +
-                             "' must be a whole number of beams from 1 to " +
-                             std::to_string(kMaxRecordingBeams));
-  }
-  return {static_cast<std::size_t>(*beams), *start, *resolution};
+  return {whole_beams(*beams, source), *start, *resolution};
 }
 
 std::vector<std::string> recording_columns() {

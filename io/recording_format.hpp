@@ -32,11 +32,12 @@ struct RecordingGeometry {
   double resolution_deg = 0.0;
 };
 
-// The geometry of a tofcompd recording from its three metadata lines. A file with none of them
-// is measured data in the interchange CSV (a user's own logger, `tofcomp simulate`): its beams
-// are those its rows name (the highest `beam` + 1, beam 0 where the column is absent) and its
-// angles unknown (NaN). Throws core::InvalidInput naming `source` when only some of the lines
-// are there or one is not a number, when `beams` is not a whole number from 1 to
+// The geometry of a tofcompd recording from its three metadata lines. A file without the two
+// angle lines is measured data in the interchange CSV (a user's own logger, `tofcomp simulate`):
+// its beams are those its rows name (the highest `beam` + 1, beam 0 where the column is absent,
+// or its '# beams' line's count when that is more) and its angles unknown (NaN). Throws
+// core::InvalidInput naming `source` when one angle line is there without the other or the beam
+// count, or a line is not a number, when `beams` is not a whole number from 1 to
 // kMaxRecordingBeams, or when a row's beam is beyond that limit.
 RecordingGeometry read_recording_geometry(const MeasurementTable& table, const std::string& source);
 

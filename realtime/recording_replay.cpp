@@ -10,13 +10,20 @@ namespace tofcomp::realtime {
 void replay_recording(const io::MeasurementTable& table, const std::string& source,
                       CompensationPipeline& pipeline,
                       const std::function<void(const ipc::CompensatedScan&)>& on_scan) {
+  replay_recording(table, source, pipeline,
+                   [&](const RawScan&, const ipc::CompensatedScan& out) { on_scan(out); });
+}
+
+void replay_recording(
+    const io::MeasurementTable& table, const std::string& source, CompensationPipeline& pipeline,
+    const std::function<void(const RawScan& in, const ipc::CompensatedScan& out)>& on_scan) {
   const io::RecordingGeometry geometry = io::read_recording_geometry(table, source);
   RawScan scan;
   bool open = false;
   std::uint64_t scans = 0;
   const auto close_scan = [&] {
     if (!open) return;
-    on_scan(pipeline.on_scan(scan));
+    on_scan(scan, pipeline.on_scan(scan));
     open = false;
   };
   for (const io::MeasurementRow& row : table.rows) {

@@ -23,5 +23,10 @@ namespace tofcomp::realtime {
 void replay_recording(const io::MeasurementTable& table, const std::string& source,
                       CompensationPipeline& pipeline,
                       const std::function<void(const ipc::CompensatedScan&)>& on_scan);
+// The same, each compensated scan handed over with the scan it came from (its time, and which
+// beams the rows gave: the others are no_echo).
+void replay_recording(
+    const io::MeasurementTable& table, const std::string& source, CompensationPipeline& pipeline,
+    const std::function<void(const RawScan& in, const ipc::CompensatedScan& out)>& on_scan);
 
 }  // namespace tofcomp::realtime

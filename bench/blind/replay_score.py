@@ -35,7 +35,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 SEP = "\u00d7"  # ×, as score.py labels effects
 RATIO_OK = 1.25
-WINDOW_COLUMN = 5  # sequence, beam, flags, raw, compensated, window, window std, mode
+WINDOW_COLUMN = 4  # time_s, beam, range_mm, compensated_mm, window_mm, ... (tofcomp replay -o)
 REPLAY_TIMEOUT_S = 600.0
 
 
