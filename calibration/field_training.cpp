@@ -9,6 +9,9 @@
 #include "calibration/junction_estimate.hpp"
 #include "calibration/measured_data_reader.hpp"
 #include "calibration/still_surfaces.hpp"
+#include "calibration/thermal_fit.hpp"
+#include "core/kalman_noise_fit.hpp"
+#include "core/lms200_limits.hpp"
 #include "core/error.hpp"
 #include "io/utc_time.hpp"
 #include "io/version.hpp"
@@ -105,20 +108,65 @@ std::string sources_of(const std::vector<FieldRecord>& records) {
   return joined;
 }
 
+// Without a bench calibration, what one would give: the thermal network fitted to the case log
+// of the record with the most readings (§3.2 with the datasheet's prior) and the Kalman noise
+// from it, the ambient that record logged, a Legendre bias (its order chosen on the data), and
+// the paper's two modes as the datasheet describes the device's spread: at ±kSystematicErrorMm / 2
+// with its statistical error, for the still gate alone (EM starts from the data).
+core::Calibration starting_calibration(const std::vector<FieldRecord>& records,
+                                       const ThermalFitSettings& thermal) {
+  const FieldRecord* longest = nullptr;
+  std::size_t most = 0;
+  for (const FieldRecord& r : records) {
+    const std::size_t readings = static_cast<std::size_t>(std::count_if(
+        r.table.rows.begin(), r.table.rows.end(),
+        [](const io::MeasurementRow& row) { return row.case_temp_c.has_value(); }));
+    if (readings > most) {
+      most = readings;
+      longest = &r;
+    }
+  }
+  if (longest == nullptr) {
+    throw core::InvalidInput("field training without a bench calibration fits the thermal "
+                             "network to the case log, and no record has case_temp_c readings");
+  }
+  const std::vector<int> beams = beams_of(longest->table);
+  const MeasuredData data = measured_data_from_table(longest->table, longest->source,
+                                                     beams.empty() ? 0 : beams.front());
+  core::Calibration c;
+  c.thermal = fit_thermal(data, nullptr, thermal).identified();
+  c.kalman_noise =
+      core::fit_kalman_noise(case_log(data, thermal.ambient_fallback_c), c.thermal, {}).noise;
+  c.ambient_c = data.median_ambient_at_ranges(thermal.ambient_fallback_c);
+  c.model.basis = core::Basis({core::BasisTerm{}}, core::TemperatureScaling{});
+  c.model.theta = Eigen::VectorXd::Zero(1);
+  const double offset = core::lms200::kSystematicErrorMm / 2.0;
+  const double variance = core::lms200::kStatisticalErrorMm * core::lms200::kStatisticalErrorMm;
+  c.model.mixture.mean = Eigen::Vector2d(-offset, offset);
+  c.model.mixture.variance = Eigen::Vector2d(variance, variance);
+  c.model.mixture.weight = Eigen::Vector2d(0.5, 0.5);
+  c.provenance.data_set = "the case log of " + longest->source;
+  return c;
+}
+
 }  // namespace
 
 FieldTraining train_in_field(const std::vector<FieldRecord>& records,
-                             const core::Calibration& bench, const FieldTrainSettings& settings,
-                             const FieldProgress& progress) {
+                             const core::Calibration* given_bench,
+                             const FieldTrainSettings& settings, const FieldProgress& progress) {
   const auto report = [&](double share, const std::string& stage) {
     if (progress) progress(share, stage);
   };
-  if (!bench.model.trained_junction_c) {
+  if (given_bench && !given_bench->model.trained_junction_c) {
     throw core::InvalidInput(
         "the bench calibration names no junction band (trained_junction_c): the field fit "
         "matches its constant to the bench's there");
   }
+  if (!given_bench) report(0.0, "thermal fit to the case log");
+  const core::Calibration bench =
+      given_bench ? *given_bench : starting_calibration(records, settings.thermal);
   FieldTraining t;
+  t.bench_given = given_bench != nullptr;
   core::StillEpisodeOptions still = settings.still;
   if (still.gate_mm == 0.0) still.gate_mm = still_gate_mm(bench.model.mixture);
   t.gate_mm = still.gate_mm;
@@ -157,7 +205,8 @@ FieldTraining train_in_field(const std::vector<FieldRecord>& records,
   options.modes = bench.model.mixture.modes();
   options.variance_floor = rounding_variance_mm2();
   options.max_iterations = settings.max_iterations;
-  options.start = core::EmStartingPoint{Eigen::VectorXd(0), bench.model.mixture};
+  // From the bench's modes; without a bench, from the data (train_em's quantile start).
+  if (given_bench) options.start = core::EmStartingPoint{Eigen::VectorXd(0), bench.model.mixture};
   // The bench's basis family on the junction temperatures the records span; a Legendre
   // polynomial's order chosen again there.
   std::vector<core::BasisTerm> terms = bench.model.basis.terms();
@@ -176,6 +225,10 @@ FieldTraining train_in_field(const std::vector<FieldRecord>& records,
   if (t.em.distance_determined) {
     t.constant = "pinned by " + std::to_string(ranges.with_reference) +
                  " ranges of known distance";
+  } else if (!given_bench) {
+    t.constant = "not determined: no range has a reference and no bench calibration was given; "
+                 "the modes' mean offset is set to 0, so absolute distances carry the device's "
+                 "own offset";
   } else {
     const double shift = match_bench_band(bench, basis, t.em);
     std::ostringstream words;
@@ -196,7 +249,8 @@ FieldTraining train_in_field(const std::vector<FieldRecord>& records,
   c.provenance.created_utc = io::utc_now();
   c.provenance.software_version = std::string("tofcomp ") + io::kVersion;
   c.provenance.samples = t.ranges_used;
-  c.provenance.notes = "field training from the bench calibration of " +
+  c.provenance.notes = std::string(given_bench ? "field training from the bench calibration of "
+                                               : "field training, the thermal network from ") +
                        bench.provenance.data_set + ": " + std::to_string(t.episodes) +
                        " still episodes; the constant " + t.constant + "; EM " +
                        std::to_string(t.em.iterations) + " iterations" +

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "calibration/field_structure.hpp"
+#include "calibration/thermal_fit.hpp"
 #include "core/calibration.hpp"
 #include "core/field_em.hpp"
 #include "core/still_episodes.hpp"
@@ -34,6 +35,7 @@ struct FieldRecord {
 inline constexpr int kBandMatchPoints = 101;
 
 struct FieldTrainSettings {
+  ThermalFitSettings thermal;  // without a bench calibration: the case log's fit
   // gate_mm 0: from the bench calibration's modes (calibration/still_surfaces.hpp).
   core::StillEpisodeOptions still;
   int max_iterations = 5000;
@@ -63,14 +65,18 @@ struct FieldTraining {
   std::optional<FieldOrderChoice> order;
   // How the constant d and the bias share was fixed, in words.
   std::string constant;
+  bool bench_given = false;
 };
 
 using FieldProgress = std::function<void(double share, const std::string& stage)>;
 
-// Trains on every beam of every record. Throws core::InvalidInput when the records hold no
-// still episode and no range of known distance, core::Error when a stage fails.
+// Trains on every beam of every record, from `bench` when given; without it the thermal network
+// is fitted to the records' case log, the modes start from the data, and unless some range has a
+// reference the constant is not determined (the modes' mean offset set to 0). Throws
+// core::InvalidInput when the records hold no still episode and no range of known distance,
+// core::Error when a stage fails.
 FieldTraining train_in_field(const std::vector<FieldRecord>& records,
-                             const core::Calibration& bench, const FieldTrainSettings& settings,
+                             const core::Calibration* bench, const FieldTrainSettings& settings,
                              const FieldProgress& progress = {});
 
 }  // namespace tofcomp::calibration

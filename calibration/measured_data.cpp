@@ -128,7 +128,9 @@ void MeasuredData::require_true_ranges() const {
       msg << source << ": line " << (k < range_line.size() ? range_line[k] : 0)
           << ": range of beam " << beam
           << " has no true_range_mm in force; training and evaluation need the reference "
-             "distance of every range";
+             "distance of every range (records of still surfaces without one train in the "
+             "field from a bench calibration: tofcomp train BENCH.csv FIELD.csv --calibration "
+             "BENCH.yaml, docs/field-calibration.md)";
       throw core::InvalidInput(msg.str());
     }
   }

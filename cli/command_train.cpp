@@ -1,11 +1,16 @@
 // tofcomp train DATA [--datasheet D.yaml] -o CALIBRATION.yaml: thermal identification, the
 // Kalman-smoothed junction temperature and EM training (§3, §5) into a calibration file.
-// tofcomp train DATA... --calibration BENCH.yaml -o CALIBRATION.yaml: training in the field
+// tofcomp train DATA... [--calibration BENCH.yaml] -o CALIBRATION.yaml: training in the field
 // (calibration/field_training.hpp): every beam of every record, the still surfaces' distances
-// unknown, from the bench calibration's thermal network and structure.
+// unknown, from the bench calibration's thermal network and structure, or without one from the
+// case log. Field training is what a bench calibration, several records, or a record without
+// any reference distance asks for.
+#include <algorithm>
 #include <cstdio>
+#include <optional>
 
 #include "calibration/field_training.hpp"
+#include "calibration/measured_data_reader.hpp"
 #include "cli/command.hpp"
 #include "cli/field_training_format.hpp"
 #include "cli/number_checks.hpp"
@@ -23,23 +28,27 @@ struct FieldOptions {
   std::vector<std::string> more;   // records after DATA
 };
 
-CommandResult train_in_field(const DataOptions& data, const FieldOptions& field,
-                             const std::string& output, bool quiet) {
-  Progress progress("train", !quiet);
-  const core::Calibration bench = io::read_calibration_file(field.bench);
-  std::vector<calibration::FieldRecord> records;
-  std::vector<std::string> files = {data.file};
-  files.insert(files.end(), field.more.begin(), field.more.end());
-  for (const std::string& file : files) {
+bool has_reference(const io::MeasurementTable& table) {
+  return std::any_of(table.rows.begin(), table.rows.end(),
+                     [](const io::MeasurementRow& row) { return row.true_range_mm.has_value(); });
+}
+
+CommandResult train_in_field(std::vector<calibration::FieldRecord> records,
+                             const FieldOptions& field, const calibration::TrainSettings& settings,
+                             const std::string& output, Progress& progress) {
+  std::optional<core::Calibration> bench;
+  if (!field.bench.empty()) bench = io::read_calibration_file(field.bench);
+  for (const std::string& file : field.more) {
     progress.update(0.0, "reading " + file);
     calibration::FieldRecord record{io::read_measured_data_file(file), file};
     for (const auto& w : record.table.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     records.push_back(std::move(record));
   }
+  calibration::FieldTrainSettings field_settings;
+  field_settings.thermal = settings.thermal;
   const calibration::FieldTraining t = calibration::train_in_field(
-      records, bench, {}, [&](double share, const std::string& stage) {
-        progress.update(share, stage);
-      });
+      records, bench ? &*bench : nullptr, field_settings,
+      [&](double share, const std::string& stage) { progress.update(share, stage); });
   io::write_calibration_file(output, t.calibration);
   progress.done("wrote " + output);
   CommandResult result;
@@ -55,17 +64,19 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
   auto* cmd = app.add_subcommand(
       "train",
       "Train a calibration (thermal model, basis, θ, lasing modes) on data with a known "
-      "distance, or with --calibration on records of still surfaces whose distances are not "
-      "known (field training), and write it as a calibration file");
+      "distance, or on records of still surfaces whose distances are not known (field "
+      "training: several records, a record without references, or --calibration), and write "
+      "it as a calibration file");
   auto data = add_data_options(*cmd);
   auto field = std::make_shared<FieldOptions>();
   cmd->add_option("more", field->more,
-                  "More records, for field training (--calibration): every beam of each")
+                  "More records: field training on every beam of each")
       ->check(CLI::ExistingFile);
   cmd->add_option("--calibration", field->bench,
-                  "Bench calibration (from tofcomp train on a record with a reference): train in "
-                  "the field from its thermal network, basis and modes, on every beam of the "
-                  "records; the still surfaces' distances are fitted, not needed")
+                  "Bench calibration (from tofcomp train on a record with a reference): field "
+                  "training from its thermal network, basis and modes, its constant matched to "
+                  "the bench's; without it the thermal network comes from the records' case log "
+                  "and the constant is not determined")
       ->check(CLI::ExistingFile);
   auto training = add_training_options(*cmd);
   auto output = std::make_shared<std::string>();
@@ -76,16 +87,19 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
                   "results do not depend on it)")
       ->check(between(1, kMaxParallelism));
   cmd->callback([&common, &run, data, field, training, output, threads] {
-    if (!field->more.empty() && field->bench.empty()) {
-      throw CLI::ValidationError("more than one record",
-                                 "training on several records is field training: give the bench "
-                                 "calibration with --calibration BENCH.yaml");
-    }
     run = [&common, data, field, training, output, threads] {
-      if (!field->bench.empty()) return train_in_field(*data, *field, *output, common.quiet);
       Progress progress("train", !common.quiet);
-      const calibration::MeasuredData measured = data->load();
+      progress.update(0.0, "reading " + data->file);
+      calibration::FieldRecord first{io::read_measured_data_file(data->file), data->file};
+      for (const auto& w : first.table.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
       calibration::TrainSettings settings = training->settings();
+      if (!field->bench.empty() || !field->more.empty() || !has_reference(first.table)) {
+        std::vector<calibration::FieldRecord> records;
+        records.push_back(std::move(first));
+        return train_in_field(std::move(records), *field, settings, *output, progress);
+      }
+      const calibration::MeasuredData measured =
+          calibration::measured_data_from_table(first.table, data->file, data->beam);
       settings.threads = *threads;
       const calibration::Training t = calibration::train_calibration(
           measured, settings, nullptr,

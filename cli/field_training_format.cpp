@@ -18,6 +18,7 @@ nlohmann::json field_training_json(const calibration::FieldTraining& t) {
                      {"set_apart", b.set_apart}});
   }
   return {{"mode", "field"},
+          {"bench_calibration_given", t.bench_given},
           {"beams", beams},
           {"ranges_used", t.ranges_used},
           {"ranges_with_reference", t.ranges_with_reference},
@@ -48,8 +49,10 @@ std::string field_training_text(const calibration::FieldTraining& t) {
     text += "\n";
   }
   if (!t.em.distance_determined) {
-    text += "absolute distances carry the bench calibration's offset: no range of these records "
-            "has a reference\n";
+    text += t.bench_given ? "absolute distances carry the bench calibration's offset: no range "
+                            "of these records has a reference\n"
+                          : "absolute distances carry the device's own offset: no range of these "
+                            "records has a reference and no bench calibration was given\n";
   }
   text += calibration_text(t.calibration);
   text += "EM: " + std::to_string(t.em.iterations) + " iterations" +

@@ -10,7 +10,9 @@
 #   field training mends what the bench calibration cannot: beyond the bench's band the window
 #     means of the compensated still ranges are closer to the truth (N = 400) than the bench
 #     calibration's;
-#   no NaN or Inf published.
+#   no NaN or Inf published;
+#   the field days alone, without the bench (`tofcomp train FIELD...`), train in the field with the
+#     constant said to be not determined, and their calibration compensates the test day.
 # The figures themselves (a larger draw, the ratios to the oracle and the bound) are in
 # docs/field-calibration.md, not in this test.
 set -euo pipefail
@@ -34,12 +36,29 @@ for calibration in bench field; do
     > "$work/$calibration-score.txt" || [ $? -eq 1 ]
 done
 cat "$work/field-score.txt"
+"$tofcomp" -q --json train "$case_dir"/field-*.csv -o "$work/alone.yaml" > "$work/alone.json"
+"$tofcomp" -q replay "$case_dir/test.csv" --calibration "$work/alone.yaml" \
+  -o "$work/alone-replayed.csv" > /dev/null
 
-python3 - "$work/bench-score.json" "$work/field-score.json" <<'PY'
-import json, sys
+python3 - "$work/bench-score.json" "$work/field-score.json" "$work/alone.json" \
+  "$work/alone-replayed.csv" <<'PY'
+import csv, json, math, sys
 
-bench, field = (json.load(open(p)) for p in sys.argv[1:3])
+bench, field, alone = (json.load(open(p)) for p in sys.argv[1:4])
 problems = []
+if alone["mode"] != "field" or alone["bench_calibration_given"] or alone["distance_determined"]:
+    problems.append(f"the field days alone: {alone['mode']} training, bench given "
+                    f"{alone['bench_calibration_given']}, distance determined "
+                    f"{alone['distance_determined']}")
+if "not determined" not in alone["constant"] or alone["episodes"] < 1:
+    problems.append(f"the field days alone: {alone['episodes']} episodes, constant "
+                    f"'{alone['constant']}'")
+with open(sys.argv[4], newline="") as f:
+    rows = list(csv.DictReader(f))
+compensated = [float(r["compensated_mm"]) for r in rows if r["compensated_mm"]]
+if len(compensated) < 0.99 * len(rows) or not all(math.isfinite(v) for v in compensated):
+    problems.append(f"the field days' calibration compensated {len(compensated)} of {len(rows)} "
+                    f"ranges of the test day")
 for band in ("inside", "beyond"):
     s = field["results"][band]["set_apart"]
     if s["outlier_ranges"] and s["outlier_set_apart_share"] < 0.99:
