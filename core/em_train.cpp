@@ -156,16 +156,7 @@ void validate_arguments(const Eigen::Ref<const Eigen::MatrixXd>& h,
   if (!(o.min_mode_weight >= 0.0 && o.min_mode_weight < 1.0 / o.modes)) {
     throw InvalidInput("min_mode_weight must be in [0, 1/M)");
   }
-  if (o.start) {
-    if (o.start->theta.size() > h.cols()) {
-      throw InvalidInput("EM training: the starting θ has more entries than H has columns");
-    }
-    if (o.start->mixture.modes() != o.modes) {
-      throw InvalidInput("EM training: the starting mixture's mode count differs from `modes`");
-    }
-    o.start->mixture.validate();
-    require_finite(o.start->theta, "the starting θ");
-  }
+  if (o.start) require_valid_start(*o.start, h.cols(), o.modes, "EM training");
   const Eigen::Index parameters = h.cols() + 3 * static_cast<Eigen::Index>(o.modes) - 1;
   if (y.size() <= parameters) {
     std::ostringstream msg;
@@ -297,6 +288,18 @@ class Iteration {
 };
 
 }  // namespace
+
+void require_valid_start(const EmStartingPoint& start, Eigen::Index columns, int modes,
+                         const std::string& fit) {
+  if (start.theta.size() > columns) {
+    throw InvalidInput(fit + ": the starting θ has more entries than H has columns");
+  }
+  if (start.mixture.modes() != modes) {
+    throw InvalidInput(fit + ": the starting mixture's mode count differs from `modes`");
+  }
+  start.mixture.validate();
+  require_finite(start.theta, "the starting θ");
+}
 
 EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
                        const Eigen::Ref<const Eigen::VectorXd>& y_minus_d,

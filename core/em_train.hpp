@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/gaussian_mixture.hpp"
@@ -97,6 +98,12 @@ struct EmTrainResult {
   // points kept); the log-likelihood never decreases along it for MStep::Exact.
   std::vector<EmIterationRecord> trace;
 };
+
+// Throws InvalidInput, naming `fit`, unless `start` fits H of `columns` columns and `modes` modes
+// (θ no longer than the columns, finite; a valid mixture of that many modes). Shared with the
+// field's EM (core/field_em.hpp).
+void require_valid_start(const EmStartingPoint& start, Eigen::Index columns, int modes,
+                         const std::string& fit);
 
 // Trains on H (K × p, Eq. 17) and ỹ = y − d (K). Throws InvalidInput on bad arguments (NaN,
 // mismatched lengths, too few samples for p columns and M modes, M < 1, Paper initialization

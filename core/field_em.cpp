@@ -52,16 +52,7 @@ void validate(const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::Ref<const
       throw InvalidInput("field EM training: episode " + std::to_string(e) + " has no range");
     }
   }
-  if (o.start) {
-    if (o.start->theta.size() > h.cols()) {
-      throw InvalidInput("field EM training: the starting θ has more entries than H has columns");
-    }
-    if (o.start->mixture.modes() != o.modes) {
-      throw InvalidInput("field EM training: the starting mixture's mode count differs from modes");
-    }
-    o.start->mixture.validate();
-    require_finite(o.start->theta, "the starting θ");
-  }
+  if (o.start) require_valid_start(*o.start, h.cols(), o.modes, "field EM training");
   const Eigen::Index parameters = h.cols() + 3 * static_cast<Eigen::Index>(o.modes) - 1 + episodes;
   if (y.size() <= parameters) {
     std::ostringstream msg;

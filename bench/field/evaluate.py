@@ -90,8 +90,11 @@ def main():
             ratio = {b: [cell(res, b, n, "ratio_system_oracle") for n in WINDOWS]
                      for b in ("inside", "beyond")}
             crb = [cell(res, "beyond", n, "ratio_window_crb") for n in WINDOWS]
-            occluded = min(res[b]["set_apart"]["outlier_set_apart_share"] for b in ("inside", "beyond"))
-            still = max(res[b]["set_apart"]["still_set_apart_share"] for b in ("inside", "beyond"))
+            # A band without occluded (or still) ranges has no share: null in the scorer's JSON.
+            shares = lambda key: [res[b]["set_apart"][key] for b in ("inside", "beyond")
+                                  if res[b]["set_apart"][key] is not None]
+            occluded = min(shares("outlier_set_apart_share"), default=float("nan"))
+            still = max(shares("still_set_apart_share"), default=float("nan"))
             fmt = lambda xs: "/".join("-" if x is None else f"{x:.2f}" for x in xs)
             print(f"{r['case']} {name:6} | {fmt(ratio['inside']):>37} | {fmt(ratio['beyond']):>20} | "
                   f"{fmt(crb):>40} | {occluded:18.4f} | {still:15.4f}")

@@ -61,9 +61,9 @@ if len(compensated) < 0.99 * len(rows) or not all(math.isfinite(v) for v in comp
                     f"ranges of the test day")
 for band in ("inside", "beyond"):
     s = field["results"][band]["set_apart"]
-    if s["outlier_ranges"] and s["outlier_set_apart_share"] < 0.99:
+    if s["outlier_ranges"] and (s["outlier_set_apart_share"] or 0.0) < 0.99:
         problems.append(f"{band}: {s['outlier_set_apart_share']:.4f} of occluded/gross set apart")
-    if s["still_set_apart_share"] > 0.02:
+    if s["still_ranges"] and s["still_set_apart_share"] > 0.02:
         problems.append(f"{band}: {s['still_set_apart_share']:.4f} of still ranges set apart")
 beyond_bench = bench["results"]["beyond"]["windows"]["400"]["mae_system_mm"]
 beyond_field = field["results"]["beyond"]["windows"]["400"]["mae_system_mm"]

@@ -123,6 +123,15 @@ TEST(ServerAuthorization, AProcessOfAnotherUserReadsButCannotControl) {
   EXPECT_TRUE(h.on_io([&] { return h.daemon().recalibrate_args.empty(); }));
 }
 
+// The idle line, naming the timeout as `span`, then the end of the stream.
+void expect_closed_as_idle(SocketClient& client, const std::string& span) {
+  const json told = read_json_line(client, kTimeout);
+  EXPECT_EQ(told["error"]["code"], "unavailable");
+  EXPECT_EQ(told["error"]["message"], "connection: no request and nothing delivered for " + span +
+                                          " (idle_timeout_s); closing it to free its slot");
+  EXPECT_THROW(client.read_line(kTimeout), SocketClosed);
+}
+
 TEST(ServerIdleTimeout, ASilentClientsSlotIsFreed) {
   sock::SocketServerSettings settings;
   settings.max_clients = 1;
@@ -131,12 +140,7 @@ TEST(ServerIdleTimeout, ASilentClientsSlotIsFreed) {
   h.start_server();
   SocketClient silent(h.path(), kTimeout);
   // The silent client is told why, then the stream ends.
-  const json told = read_json_line(silent, kTimeout);
-  EXPECT_EQ(told["error"]["code"], "unavailable");
-  EXPECT_EQ(told["error"]["message"],
-            "connection: no request and nothing delivered for 200 ms (idle_timeout_s); closing it "
-            "to free its slot");
-  EXPECT_THROW(silent.read_line(kTimeout), SocketClosed);
+  expect_closed_as_idle(silent, "200 ms");
   ASSERT_TRUE(h.wait_for_counters([](const auto& c) { return c.clients == 0; }));
   // Its slot is free: the next client is served.
   SocketClient next(h.path(), kTimeout);
@@ -163,12 +167,7 @@ TEST(ServerIdleTimeout, ASubscriberIsIdleOnlyWhileNothingIsDeliveredToIt) {
     h.publish(make_scan(sequence++, 1));
     std::this_thread::sleep_for(20ms);
   }
-  const json told = read_json_line(starved, kTimeout);
-  EXPECT_EQ(told["error"]["code"], "unavailable");
-  EXPECT_EQ(told["error"]["message"],
-            "connection: no request and nothing delivered for 2 s (idle_timeout_s); closing it "
-            "to free its slot");
-  EXPECT_THROW(starved.read_line(kTimeout), SocketClosed);
+  expect_closed_as_idle(starved, "2 s");
   // The served one got every scan and is still served.
   for (std::uint64_t s = 1; s < sequence; ++s) {
     EXPECT_EQ(read_json_line(served, kTimeout)["scan"]["sequence"], s);
