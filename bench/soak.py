@@ -2,7 +2,9 @@
 """The soak (issue 15; not a CI test): tofcompd for a long run (10 minutes by default) on its
 emulated LMS 200 with link faults injected by the emulator and case-sensor faults injected through
 a real hwmon sensor file, while clients connect, pipeline, subscribe, stay silent, send garbage and
-hang up, and reloads and recalibrations come. It records the daemon's resident memory and open
+hang up, and reloads and recalibrations come; and three subscribers stay the whole run, one of them
+having shut its sending side after subscribing (issue 53), each checked against the ring for every
+scan published while it was connected. It records the daemon's resident memory and open
 descriptors over time, the gaps between published scans (read from the shared-memory ring, each
 one matched against the faults injected around it), and the scans lost on the link in the spans
 without a fault. The figures of the last run are in docs/performance.md ("Soak").
@@ -11,7 +13,7 @@ without a fault. The figures of the last run are in docs/performance.md ("Soak")
 
 Exit status 0 when the run met the issue's bar (RSS and descriptors flat, no gap over 100 ms
 between scans but around an injected fault, no scan lost outside injected faults, every
-pipelined request answered), 1 otherwise; the figures go to stdout as JSON and text.
+pipelined request answered, no scan missing at a lasting subscriber), 1 otherwise; the figures go to stdout as JSON and text.
 """
 import argparse
 import json
@@ -122,6 +124,58 @@ class RingFollower(threading.Thread):
                     self.lost += 1
                 cursor += 1
             time.sleep(0.002)
+
+
+class LastingSubscriber(threading.Thread):
+    """Subscribes to beam 0 of every scan for the whole run (reconnecting if the daemon closes it)
+    and keeps the sequence numbers it received, per connection; half_close shuts its sending side
+    right after subscribing, as `nc -N` does."""
+
+    def __init__(self, path, stop, half_close):
+        super().__init__(daemon=True)
+        self.path, self.stop, self.half_close = path, stop, half_close
+        self.connections = []  # per connection: the sequences received, in order
+        self.closed_by_daemon = []
+
+    def run(self):
+        while not self.stop.is_set():
+            try:
+                s = connect(self.path)
+                s.settimeout(1.0)
+                s.sendall(b'{"op":"subscribe","beams":[0,0]}\n')
+                if self.half_close:
+                    s.shutdown(socket.SHUT_WR)
+                received = []
+                self.connections.append(received)
+                data = b""
+                while not self.stop.is_set():
+                    try:
+                        chunk = s.recv(1 << 16)
+                    except socket.timeout:
+                        continue
+                    if not chunk:
+                        self.closed_by_daemon.append(time.time())
+                        break
+                    data += chunk
+                    *lines, data = data.split(b"\n")
+                    for line in lines:
+                        message = json.loads(line)
+                        if message.get("event") == "scan":
+                            received.append(message["scan"]["sequence"])
+                s.close()
+            except OSError as e:
+                self.closed_by_daemon.append(f"{time.time()}: {e}")
+                time.sleep(0.5)
+
+    def missing(self, published):
+        """Scans published between a connection's first and last scan that it did not get."""
+        missing = 0
+        for received in self.connections:
+            if len(received) < 2:
+                continue
+            span = [q for q in published if received[0] <= q <= received[-1]]
+            missing += len(set(span) - set(received))
+        return missing
 
 
 def connect(path):
@@ -307,7 +361,8 @@ def main():
                    for kind in ("pipeline", "pipeline", "subscribe", "subscribe", "idle", "idle",
                                 "garbage", "control", "recalibrate")]
         threads.append(SensorFaults(hwmon, stop, counts))
-        for t in threads:
+        lasting = [LastingSubscriber(sock, stop, half_close) for half_close in (False, False, True)]
+        for t in threads + lasting:
             t.start()
         samples, stats_samples = [], []
         start = time.time()
@@ -388,6 +443,9 @@ def main():
         "longest_gap_ms": round(1000 * max(g[0] for g in gaps), 1),
         "gaps_over_100ms": len(long_gaps),
         "gaps_over_100ms_not_near_a_fault": len(unexplained),
+        # What the faults cost: the longest gaps between published scans around injected faults.
+        "longest_gaps_near_faults_ms": sorted((round(1000 * g[0], 1) for g in long_gaps
+                                               if near_fault(g[1], g[2])), reverse=True)[:10],
         "longest_gap_not_near_a_fault_ms": round(1000 * max([g[0] for g in gaps if not near_fault(g[1], g[2])]), 1),
         "link_faults_injected": final_stats["stats"]["emulator"]["faults_injected"],
         "scans_sent": final_stats["stats"]["emulator"]["scans_sent"],
@@ -412,6 +470,11 @@ def main():
                                               default=-1), 1)}
             for g, a, b in unexplained],
         "client_errors": counts.get("last_errors", [])[-5:],
+        "lasting_subscribers": [
+            {"half_closed": l.half_close, "connections": len(l.connections),
+             "scans_received": sum(len(c) for c in l.connections),
+             "missing": l.missing(follower.sequences), "closed_by_daemon": len(l.closed_by_daemon)}
+            for l in lasting],
     }
     print(json.dumps(figures, indent=2))
     with open(os.path.join(work, "soak.json"), "w") as f:
@@ -419,7 +482,9 @@ def main():
     ok = (exit_status == 0 and figures["gaps_over_100ms_not_near_a_fault"] == 0
           and lost_quiet == 0 and sequence_gaps == 0
           and figures["clients"].get("pipelined_requests") == figures["clients"].get("pipelined_replies")
-          and settled[-1]["rss_kib"] <= 1.2 * settled[0]["rss_kib"] and fds[-1] <= fds[0] + 4)
+          and settled[-1]["rss_kib"] <= 1.2 * settled[0]["rss_kib"] and fds[-1] <= fds[0] + 4
+          and all(x["missing"] == 0 and x["scans_received"] > 0
+                  for x in figures["lasting_subscribers"]))
     print("soak: " + ("met the bar" if ok else "DID NOT meet the bar") + f"; work directory {work}")
     if not args.keep and ok:
         shutil.rmtree(work, ignore_errors=True)
