@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "calibration/measured_data.hpp"
 #include "core/error.hpp"
@@ -62,11 +63,11 @@ std::pair<double, long> score(const core::FieldEmResult& fit, const FoldPart& fi
 
 }  // namespace
 
-FieldOrderChoice choose_field_order(const Eigen::Ref<const Eigen::VectorXd>& junction_c,
+FieldBasisChoice choose_field_basis(const Eigen::Ref<const Eigen::VectorXd>& junction_c,
                                     const Eigen::Ref<const Eigen::VectorXd>& y,
                                     const std::vector<int>& episode, int episodes,
                                     const Eigen::Ref<const Eigen::VectorXd>& time_s,
-                                    const core::FieldEmOptions& em) {
+                                    const core::FieldEmOptions& em, const core::Basis& bench) {
   std::vector<bool> first(episode.size()), second(episode.size());
   for (std::size_t k = 0; k < episode.size(); ++k) {
     first[k] = static_cast<long>(std::floor(time_s[static_cast<Eigen::Index>(k)] /
@@ -76,11 +77,9 @@ FieldOrderChoice choose_field_order(const Eigen::Ref<const Eigen::VectorXd>& jun
   const FoldPart a = part_of(episode, episodes, first);
   const FoldPart b = part_of(episode, episodes, second);
   const core::TemperatureScaling scaling = core::TemperatureScaling::spanning(junction_c);
-  FieldOrderChoice choice;
-  double best = -std::numeric_limits<double>::infinity();
-  int since_best = 0;
-  for (int order = 1; order <= kFieldMaxOrder && since_best < kFieldOrderPatience; ++order) {
-    const core::Basis basis({core::BasisTerm{core::BasisKind::Polynomial, order}}, scaling);
+  // The held-out log-likelihood per scored range of a basis; nullopt when a fit finds it beyond
+  // what the temperatures met determine (a singular system) or nothing could be scored.
+  const auto held_out = [&](const core::Basis& basis) -> std::optional<double> {
     const Eigen::MatrixXd h = basis.design_matrix(junction_c);
     double total = 0.0;
     long scored = 0;
@@ -94,18 +93,37 @@ FieldOrderChoice choose_field_order(const Eigen::Ref<const Eigen::VectorXd>& jun
         scored += count;
       }
     } catch (const core::NumericalError&) {
-      break;  // the order is beyond what the temperatures met determine
+      return std::nullopt;
     }
-    if (scored == 0) break;
-    const double per_range = total / static_cast<double>(scored);
-    choice.held_out.emplace_back(order, per_range);
-    if (per_range > best) {
-      best = per_range;
-      choice.order = order;
-      since_best = 0;
-    } else {
-      ++since_best;
-    }
+    if (scored == 0) return std::nullopt;
+    return total / static_cast<double>(scored);
+  };
+  FieldBasisChoice choice;
+  double best = -std::numeric_limits<double>::infinity();
+  const auto consider = [&](const core::Basis& basis, double score) {
+    choice.held_out.emplace_back(basis.describe(), score);
+    if (score <= best) return false;
+    best = score;
+    choice.basis = basis;
+    return true;
+  };
+  int since_best = 0;
+  for (int order = 1; order <= kFieldMaxOrder && since_best < kFieldOrderPatience; ++order) {
+    const core::Basis basis({core::BasisTerm{core::BasisKind::Polynomial, order}}, scaling);
+    const std::optional<double> score = held_out(basis);
+    if (!score) break;
+    since_best = consider(basis, *score) ? 0 : since_best + 1;
+  }
+  const std::vector<core::BasisTerm>& terms = bench.terms();
+  const bool one_legendre = terms.size() == 1 && terms[0].kind == core::BasisKind::Polynomial &&
+                            terms[0].form == core::PolynomialForm::Legendre;
+  if (!one_legendre) {
+    const core::Basis own(terms, scaling);
+    if (const std::optional<double> score = held_out(own)) consider(own, *score);
+  }
+  if (choice.held_out.empty()) {
+    throw core::NumericalError(
+        "field training: no basis could be fitted on held-out time blocks of these records");
   }
   return choice;
 }

@@ -1,15 +1,17 @@
-// The order of the field fit's Legendre basis (calibration/field_training.hpp), chosen as training
-// chooses a structure (held-out likelihood of rounded ranges, core/structure_search.hpp) but on
+// The field fit's basis (calibration/field_training.hpp): Legendre polynomials of rising order, and
+// the bench calibration's own basis when it is another (a Fourier term whose frequency was chosen
+// on the bench's few kelvin), chosen as training chooses a structure (held-out likelihood of rounded ranges, core/structure_search.hpp) but on
 // ranges whose distances are nuisance parameters: the ranges are dealt into two folds by
 // alternating blocks of time, so that every long still episode has ranges in both; each order is
 // fitted on one fold and scored on the other with the distances its fit gave the episodes there
 // (an episode with no range in the fitting fold is not scored), and both ways summed. Orders rise
 // from 1 until `patience` in a row fail to beat the best. A bench calibration's band is a few
-// kelvin, its order chosen there; a day in a hall spans tens of kelvin, where the bias's shape
+// kelvin, its basis chosen there; a day in a hall spans tens of kelvin, where the bias's shape
 // needs its own.
 #pragma once
 
 #include <Eigen/Core>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -24,17 +26,18 @@ inline constexpr double kFieldFoldBlockS = 600.0;
 inline constexpr int kFieldMaxOrder = 16;
 inline constexpr int kFieldOrderPatience = 2;
 
-struct FieldOrderChoice {
-  int order = 1;
-  std::vector<std::pair<int, double>> held_out;  // (order, log-likelihood per scored range)
+struct FieldBasisChoice {
+  core::Basis basis;  // scaled to the junction temperatures given
+  std::vector<std::pair<std::string, double>> held_out;  // (basis, log-likelihood per range)
 };
 
 // The ranges of the fit: junction temperature, y, episode (core/field_em.hpp), time. `em` gives
-// the modes, floor and start of each fit.
-FieldOrderChoice choose_field_order(const Eigen::Ref<const Eigen::VectorXd>& junction_c,
+// the modes, floor and start of each fit; `bench` is the bench calibration's basis (a candidate
+// unless it is one Legendre polynomial, whose orders are tried anyway).
+FieldBasisChoice choose_field_basis(const Eigen::Ref<const Eigen::VectorXd>& junction_c,
                                     const Eigen::Ref<const Eigen::VectorXd>& y,
                                     const std::vector<int>& episode, int episodes,
                                     const Eigen::Ref<const Eigen::VectorXd>& time_s,
-                                    const core::FieldEmOptions& em);
+                                    const core::FieldEmOptions& em, const core::Basis& bench);
 
 }  // namespace tofcomp::calibration

@@ -207,17 +207,12 @@ FieldTraining train_in_field(const std::vector<FieldRecord>& records,
   options.max_iterations = settings.max_iterations;
   // From the bench's modes; without a bench, from the data (train_em's quantile start).
   if (given_bench) options.start = core::EmStartingPoint{Eigen::VectorXd(0), bench.model.mixture};
-  // The bench's basis family on the junction temperatures the records span; a Legendre
-  // polynomial's order chosen again there.
-  std::vector<core::BasisTerm> terms = bench.model.basis.terms();
-  if (terms.size() == 1 && terms[0].kind == core::BasisKind::Polynomial &&
-      terms[0].form == core::PolynomialForm::Legendre) {
-    report(kBeamsShare, "choosing the basis order on held-out time blocks");
-    const Eigen::Map<const Eigen::VectorXd> time_s(ranges.time_s.data(), k);
-    t.order = choose_field_order(junction_c, y, ranges.episode, ranges.episodes, time_s, options);
-    terms[0].order = t.order->order;
-  }
-  const core::Basis basis(terms, core::TemperatureScaling::spanning(junction_c));
+  // The basis again, over the junction temperatures the records span.
+  report(kBeamsShare, "choosing the basis on held-out time blocks");
+  const Eigen::Map<const Eigen::VectorXd> time_s(ranges.time_s.data(), k);
+  t.basis = choose_field_basis(junction_c, y, ranges.episode, ranges.episodes, time_s, options,
+                               bench.model.basis);
+  const core::Basis& basis = t.basis.basis;
   const Eigen::MatrixXd h = basis.design_matrix(junction_c);
   report(kBeamsShare, "EM over " + std::to_string(k) + " ranges, " +
                           std::to_string(ranges.episodes) + " still episodes");

@@ -3,9 +3,8 @@
 // still_episodes.hpp); each episode's distance is a nuisance parameter of the EM (core/
 // field_em.hpp), so a wall seen over the temperatures a day brings teaches the bias there, where
 // no bench reached. A bench calibration gives what ranges of unknown distance cannot: the thermal
-// network and Kalman noise that put a junction temperature on every range (§3), the basis family
-// (a Legendre polynomial's order is chosen again over the temperatures the records span) and the
-// number of modes, and the constant the distances and the bias share. Ranges of a record
+// network and Kalman noise that put a junction temperature on every range (§3), a candidate basis
+// (the basis is chosen again over the temperatures the records span) and the number of modes, and the constant the distances and the bias share. Ranges of a record
 // with a reference (true_range_mm) enter the same fit with their distance known and pin that
 // constant themselves; without any, the bias is matched to the bench calibration's over the
 // bench's junction band.
@@ -60,9 +59,8 @@ struct FieldTraining {
   long ranges_with_reference = 0;
   int episodes = 0;
   double gate_mm = 0.0;
-  // The Legendre order chosen on held-out time blocks (calibration/field_structure.hpp); absent
-  // when the bench's basis is not one Legendre polynomial (its terms are kept).
-  std::optional<FieldOrderChoice> order;
+  // The basis chosen on held-out time blocks (calibration/field_structure.hpp).
+  FieldBasisChoice basis;
   // How the constant d and the bias share was fixed, in words.
   std::string constant;
   bool bench_given = false;

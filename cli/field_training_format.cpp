@@ -26,7 +26,8 @@ nlohmann::json field_training_json(const calibration::FieldTraining& t) {
           {"still_gate_mm", t.gate_mm},
           {"distance_determined", t.em.distance_determined},
           {"constant", t.constant},
-          {"basis_order_held_out", t.order ? nlohmann::json(t.order->held_out) : nlohmann::json()},
+          {"basis", t.basis.basis.describe()},
+          {"basis_held_out", t.basis.held_out},
           {"em", {{"iterations", t.em.iterations}, {"converged", t.em.converged}}}};
 }
 
@@ -41,13 +42,12 @@ std::string field_training_text(const calibration::FieldTraining& t) {
       "still: within {:.1f} mm of the surface's level; {} episodes, {} ranges fitted ({} of "
       "known distance)\nthe constant of d and the bias: {}\n",
       t.gate_mm, t.episodes, t.ranges_used, t.ranges_with_reference, t.constant);
-  if (t.order) {
-    text += "basis order by held-out time blocks (log-likelihood per range):";
-    for (const auto& [order, score] : t.order->held_out) {
-      text += fmt::format(" {}{}: {:.4f}", order == t.order->order ? "*" : "", order, score);
-    }
-    text += "\n";
+  text += "basis by held-out time blocks (log-likelihood per range):";
+  const std::string chosen = t.basis.basis.describe();
+  for (const auto& [name, score] : t.basis.held_out) {
+    text += fmt::format("\n  {} {}: {:.4f}", name == chosen ? "*" : " ", name, score);
   }
+  text += "\n";
   if (!t.em.distance_determined) {
     text += t.bench_given ? "absolute distances carry the bench calibration's offset: no range "
                             "of these records has a reference\n"
