@@ -124,20 +124,6 @@ MStepResult given_start(const EmStartingPoint& start, Eigen::Index columns, doub
   return init;
 }
 
-void require_modes_populated(const Eigen::MatrixXd& r, double min_weight, int iteration) {
-  const double k = static_cast<double>(r.rows());
-  for (Eigen::Index i = 0; i < r.cols(); ++i) {
-    const double weight = r.col(i).sum() / k;
-    if (!(weight >= min_weight)) {
-      std::ostringstream msg;
-      msg << "EM training: at iteration " << iteration << " mode " << i + 1 << " of " << r.cols()
-          << " holds a fraction " << weight << " of the samples (minimum " << min_weight
-          << "): the data do not show " << r.cols() << " distinct lasing modes; train with fewer "
-          << "modes";
-      throw EmptiedModeError(msg.str(), static_cast<int>(i));
-    }
-  }
-}
 
 void validate_arguments(const Eigen::Ref<const Eigen::MatrixXd>& h,
                         const Eigen::Ref<const Eigen::VectorXd>& y, const EmTrainOptions& o) {
@@ -289,6 +275,22 @@ class Iteration {
 
 }  // namespace
 
+void require_modes_populated(const Eigen::MatrixXd& r, double min_weight, int iteration,
+                             const std::string& fit) {
+  const double k = static_cast<double>(r.rows());
+  for (Eigen::Index i = 0; i < r.cols(); ++i) {
+    const double weight = r.col(i).sum() / k;
+    if (!(weight >= min_weight)) {
+      std::ostringstream msg;
+      msg << fit << ": at iteration " << iteration << " mode " << i + 1 << " of " << r.cols()
+          << " holds a fraction " << weight << " of the samples (minimum " << min_weight
+          << "): the data do not show " << r.cols() << " distinct lasing modes; train with fewer "
+          << "modes";
+      throw EmptiedModeError(msg.str(), static_cast<int>(i));
+    }
+  }
+}
+
 void require_valid_start(const EmStartingPoint& start, Eigen::Index columns, int modes,
                          const std::string& fit) {
   if (start.theta.size() > columns) {
@@ -343,7 +345,8 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
   };
   // M-step (Eq. 19) from a point whose E-step is done.
   const auto step = [&](const Point& from) {
-    require_modes_populated(from.responsibilities, options.min_mode_weight, result.iterations + 1);
+    require_modes_populated(from.responsibilities, options.min_mode_weight, result.iterations + 1,
+                            "EM training");
     ++result.iterations;
     if (!exact) {
       return paper_m_step(h, y, from.responsibilities, from.parameters.mixture.variance, floor,

@@ -105,6 +105,11 @@ struct EmTrainResult {
 void require_valid_start(const EmStartingPoint& start, Eigen::Index columns, int modes,
                          const std::string& fit);
 
+// Throws EmptiedModeError, naming `fit` and the iteration, when a mode of the responsibilities r
+// (K × M) holds less than min_weight of the ranges. Shared with the field's EM.
+void require_modes_populated(const Eigen::MatrixXd& r, double min_weight, int iteration,
+                             const std::string& fit);
+
 // Trains on H (K × p, Eq. 17) and ỹ = y − d (K). Throws InvalidInput on bad arguments (NaN,
 // mismatched lengths, too few samples for p columns and M modes, M < 1, Paper initialization
 // with M ≠ 2) and NumericalError when the problem has no unique answer (zero variance, a

@@ -178,21 +178,6 @@ FieldParameters m_step(const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::
   return out;
 }
 
-void require_populated(const Eigen::MatrixXd& r, double min_weight, int iteration) {
-  const double k = static_cast<double>(r.rows());
-  for (Eigen::Index i = 0; i < r.cols(); ++i) {
-    const double weight = r.col(i).sum() / k;
-    if (!(weight >= min_weight)) {
-      std::ostringstream msg;
-      msg << "field EM training: at iteration " << iteration << " mode " << i + 1 << " of "
-          << r.cols() << " holds a fraction " << weight << " of the ranges (minimum "
-          << min_weight << "): the data do not show " << r.cols()
-          << " distinct lasing modes; train with fewer modes";
-      throw EmptiedModeError(msg.str(), static_cast<int>(i));
-    }
-  }
-}
-
 // The start: the given θ and modes with each episode's distance their residuals' mean, or
 // train_em's quantile start on the ranges less their episodes' medians.
 FieldParameters start_of(const Eigen::Ref<const Eigen::MatrixXd>& h, const Eigen::VectorXd& y,
@@ -264,7 +249,8 @@ FieldEmResult train_field_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
       break;
     }
     if (result.iterations >= options.max_iterations) break;
-    require_populated(r, options.min_mode_weight, result.iterations + 1);
+    require_modes_populated(r, options.min_mode_weight, result.iterations + 1,
+                            "field EM training");
     previous = log_likelihood;
     point = m_step(h, relative, episode, episodes, r, point.mixture.variance, floor, known_any,
                    options.pinned_mean_offset_mm, scratch);
