@@ -89,6 +89,9 @@ CommandResult emulate(const EmulateOptions& o, const CommonOptions& common) {
                  {"requests", c.requests},
                  {"naks_sent", c.naks_sent},
                  {"faults_injected", c.injected.total()}};
+  for (const auto& [kind, count] : c.injected.by_kind()) {
+    result.json["faults_by_kind"][kind] = count;
+  }
   char text[512];
   std::snprintf(text, sizeof text,
                 "served %llu requests and %llu scans (%llu skipped at the line rate) over %.1f s "

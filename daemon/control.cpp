@@ -83,6 +83,7 @@ nlohmann::json Control::stats() {
                {"link_losses", d.link_losses},
                {"stream_timeouts", d.stream_timeouts},
                {"device_resets", d.device_resets},
+               {"restart_checks", d.restart_checks},
                {"bring_ups", d.bring_ups},
                {"rate_searches", d.rate_searches},
                {"crc_errors", d.decoder.crc_errors},
@@ -102,6 +103,9 @@ nlohmann::json Control::stats() {
                      {"scans_skipped", e->scans_skipped},
                      {"telegrams_sent", e->telegrams_sent},
                      {"faults_injected", e->faults_injected}};
+    nlohmann::json by_kind = nlohmann::json::object();
+    for (const auto& [kind, count] : e->faults_by_kind) by_kind[kind] = count;
+    s["emulator"]["faults_by_kind"] = std::move(by_kind);
   }
   return s;
 }

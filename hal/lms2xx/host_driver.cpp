@@ -18,6 +18,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+// A silent stream's checks at the power-on rate are this many scan intervals apart.
+constexpr int kListenScansBetweenChecks = 2;
+
 // A failure of the link that ends this attempt; the supervisor starts over.
 class LinkError : public core::Error {
  public:
@@ -50,11 +53,12 @@ void DriverSettings::validate() const {
     throw core::InvalidInput("lms2xx driver: variant " + to_string(variant) +
                              " does not exist (100° or 180°; 1°, 0.5°, or 0.25° with 100° only)");
   }
-  if (attempts < 1 || ack_timeout.count() <= 0 || reply_timeout.count() <= 0 ||
-      scan_timeout.count() <= 0 || backoff_initial.count() <= 0 || backoff_max < backoff_initial) {
+  if (attempts < 1 || silence_scans < 1 || ack_timeout.count() <= 0 ||
+      reply_timeout.count() <= 0 || scan_timeout.count() <= 0 || backoff_initial.count() <= 0 ||
+      backoff_max < backoff_initial) {
     throw core::InvalidInput(
-        "lms2xx driver: attempts, timeouts and backoff must be positive, backoff_max >= "
-        "backoff_initial");
+        "lms2xx driver: attempts, silence_scans, timeouts and backoff must be positive, "
+        "backoff_max >= backoff_initial");
   }
 }
 
@@ -356,6 +360,7 @@ awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& r
   // stretches by up to one longest telegram's line time. A silent line fails fast, so a search
   // for the device's rate does not wait out the line time of 9600 Bd at every wrong rate.
   const auto sent = Clock::now();
+  const std::uint64_t resets_before = counters_.device_resets;
   const auto in_flight = line_time(kMaxPayloadBytes + kFrameOverheadBytes + bytes.size());
   const auto stretched = [&](Clock::time_point base, Clock::duration wait) {
     const bool line_busy = last_byte_ > sent;
@@ -373,6 +378,11 @@ awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& r
     }
     if (pending_->naked) {
       ++counters_.naks;
+      pending_.reset();
+      co_return false;
+    }
+    // A device that announced a restart since the request went out never heard it.
+    if (counters_.device_resets != resets_before && !pending_->acked) {
       pending_.reset();
       co_return false;
     }
@@ -397,12 +407,14 @@ awaitable<Telegram> Lms2xxDriver::transact(const Telegram& request, int attempts
                   std::to_string(attempts) + " attempts at " + std::to_string(port_baud_) + " Bd");
 }
 
+// Asks for the variant the host wants (a request the bring-up makes anyway): its reply is a
+// dozen bytes where the status reply is some 150, a sixth of a second at 9600 Bd.
 awaitable<bool> Lms2xxDriver::probe(unsigned baud) {
   set_port_baud(baud);
   Telegram reply;
-  if (!co_await exchange_once(status_request(), reply)) co_return false;
+  if (!co_await exchange_once(variant_request(settings_.variant), reply)) co_return false;
   try {
-    static_cast<void>(parse_status_reply(reply));
+    static_cast<void>(parse_variant_reply(reply));
   } catch (const core::InvalidInput&) {
     co_return false;
   }
@@ -412,10 +424,17 @@ awaitable<bool> Lms2xxDriver::probe(unsigned baud) {
 awaitable<unsigned> Lms2xxDriver::find_rate() {
   // The rate the device was last seen at first (a dropped line leaves it there), then the
   // power-on rate, the configured one, and the rest.
+  if (restarted_device_answered_) {  // the silent stream's check found it there just now
+    restarted_device_answered_ = false;
+    device_reset_seen_ = false;
+    last_device_baud_ = kPowerOnBaud;
+    co_return kPowerOnBaud;
+  }
   std::vector<unsigned> order;
   const auto add = [&order](unsigned b) {
     if (std::find(order.begin(), order.end(), b) == order.end()) order.push_back(b);
   };
+  if (device_reset_seen_) add(kPowerOnBaud);  // it announced its restart: at its power-on rate
   if (last_device_baud_) add(*last_device_baud_);
   add(kPowerOnBaud);
   add(settings_.baud);
@@ -480,17 +499,72 @@ awaitable<void> Lms2xxDriver::bring_up() {
   }
 }
 
+// The time between scans at the configured variant and rate: the mirror's turns a scan takes,
+// or the scan telegram's line time where the line is the slower.
+Clock::duration Lms2xxDriver::scan_interval() const {
+  const auto turns = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
+      settings_.variant.turns_per_scan() / kMirrorTurnsPerSecond));
+  const std::size_t telegram_bytes =
+      kFrameOverheadBytes + scan_data_bytes(settings_.variant.values_per_scan());
+  return std::max(turns, std::chrono::duration_cast<Clock::duration>(
+                             line_transfer_time(telegram_bytes, settings_.baud)));
+}
+
+// Whether a device that fell silent restarted: a restart (a brown-out, a watchdog) brings it
+// back at its power-on rate with continuous output off, and its power-on telegram at that rate
+// never reaches a host at another. One request at 9600 Bd finds it there in a few tens of
+// milliseconds, where waiting out scan_timeout costs a second of scans. A device that does not
+// answer there (stalled, or still restarting) is listened to again at the running rate.
+awaitable<bool> Lms2xxDriver::restarted_device_answers() {
+  ++counters_.restart_checks;
+  const bool answered = co_await probe(kPowerOnBaud);
+  // Found when it answers, or when its power-on telegram came while the port listened there
+  // (it restarted after the request was sent, and never heard it).
+  if (answered || device_reset_seen_) {
+    if (!device_reset_seen_) ++counters_.device_resets;  // its power-on telegram not heard
+    restarted_device_answered_ = true;
+    co_return true;
+  }
+  if (!link_lost_ && !stopping_) set_port_baud(settings_.baud);
+  co_return false;
+}
+
 awaitable<std::string> Lms2xxDriver::watch_stream() {
+  const bool may_restart_unheard = settings_.baud != kPowerOnBaud;
+  const Clock::duration first_check = settings_.silence_scans * scan_interval();
+  // Between checks, the port listens at the running rate for this long: a stalled stream that
+  // resumes is heard there, and a scan lost to a check costs at most one check's wait.
+  const Clock::duration between_checks = kListenScansBetweenChecks * scan_interval();
+  Clock::duration check_after = first_check;
+  Clock::time_point silent_since = last_scan_;
   for (;;) {
     if (stopping_) co_return "stopped";
     if (link_lost_) co_return "the link to " + device_ + " was lost";
     if (device_reset_seen_) co_return "the device restarted";
+    if (last_scan_ > silent_since) {  // scans again: the next silence is checked from its start
+      silent_since = last_scan_;
+      check_after = first_check;
+    }
     const auto silent_until = last_scan_ + settings_.scan_timeout;
-    if (Clock::now() >= silent_until) {
+    const auto now = Clock::now();
+    if (now >= silent_until) {
       ++counters_.stream_timeouts;
       co_return "no scan for " + std::to_string(settings_.scan_timeout.count()) + " ms";
     }
-    watch_timer_.expires_at(silent_until);
+    const auto check_at = silent_since + check_after;
+    if (may_restart_unheard && now >= check_at) {
+      if (co_await restarted_device_answers()) {
+        co_return "no scan for " +
+            std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(
+                               Clock::now() - last_scan_).count()) +
+            " ms and the device answered at " + std::to_string(kPowerOnBaud) +
+            " Bd: it restarted";
+      }
+      silent_since = Clock::now();  // the next check after listening here between_checks
+      check_after = between_checks;
+      continue;
+    }
+    watch_timer_.expires_at(may_restart_unheard ? std::min(silent_until, check_at) : silent_until);
     boost::system::error_code ec;
     co_await watch_timer_.async_wait(asio::redirect_error(use_awaitable, ec));
   }

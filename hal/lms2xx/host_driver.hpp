@@ -35,6 +35,10 @@ struct DriverSettings {
   std::chrono::milliseconds reply_timeout{200};
   int attempts = 3;                              // per request, before the link is started over
   std::chrono::milliseconds scan_timeout{1000};  // streaming with no scan this long: start over
+  // Streaming with no scan for this many scan intervals: the device is asked, at its power-on
+  // rate, whether it restarted (a restarted device talks at 9600 Bd, which a host at another rate
+  // does not hear); asked again every two scan intervals while the silence lasts.
+  int silence_scans = 3;
   std::chrono::milliseconds backoff_initial{50};
   std::chrono::milliseconds backoff_max{2000};
 
@@ -53,6 +57,7 @@ struct DriverCounters {
   std::uint64_t link_losses = 0;      // the port failed (hang-up, device gone)
   std::uint64_t stream_timeouts = 0;  // streaming stopped without a word
   std::uint64_t device_resets = 0;    // power-on telegrams seen, or the device found at 9600
+  std::uint64_t restart_checks = 0;   // silent streams checked at the power-on rate
   std::uint64_t bring_ups = 0;        // completed start-ups, the first included
   std::uint64_t rate_searches = 0;    // times the device was not at the rate first tried
 };
@@ -114,6 +119,7 @@ class Lms2xxDriver {
   bool backoff_reset_ = false;  // reconnect_now() was called
   bool link_lost_ = false;
   bool device_reset_seen_ = false;
+  bool restarted_device_answered_ = false;  // a silent stream's check found it at 9600 Bd
   bool device_answered_ = false;  // a telegram, ACK or NAK since the last bring-up began
   bool accepting_scans_ = false;  // variant and units confirmed in this bring-up
   std::uint64_t reader_generation_ = 0;
@@ -130,6 +136,8 @@ class Lms2xxDriver {
   boost::asio::awaitable<Telegram> transact(const Telegram& request, int attempts);
   boost::asio::awaitable<bool> exchange_once(const Telegram& request, Telegram& reply);
   boost::asio::awaitable<std::string> watch_stream();
+  boost::asio::awaitable<bool> restarted_device_answers();
+  std::chrono::steady_clock::duration scan_interval() const;
   boost::asio::awaitable<void> sleep(std::chrono::steady_clock::duration d);
 
   void open_port();

@@ -16,6 +16,11 @@ namespace tofcomp::hal::lms2xx {
 
 inline constexpr int kMaxValuesPerScan = 401;
 
+// The DATA of a scan telegram of `values` values: the u16 header, two bytes a value, the status.
+constexpr std::size_t scan_data_bytes(int values) {
+  return 2 + 2 * static_cast<std::size_t>(values) + 1;
+}
+
 struct ScanTelegram {
   Units units = Units::Millimetre;
   bool partial = false;

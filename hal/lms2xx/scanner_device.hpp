@@ -13,6 +13,7 @@
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "hal/gpio/gpio_line.hpp"
 
@@ -39,6 +40,8 @@ class ScannerDevice {
     std::uint64_t scans_skipped = 0;  // scans the line rate could not carry
     std::uint64_t telegrams_sent = 0;
     std::uint64_t faults_injected = 0;
+    // The faults injected, each kind by its name (what the device's configuration calls it).
+    std::vector<std::pair<std::string, std::uint64_t>> faults_by_kind;
   };
 
   virtual ~ScannerDevice() = default;

@@ -50,7 +50,8 @@ std::unique_ptr<hal::GpioOutput> EmulatedScannerDevice::supply() {
 std::optional<hal::lms2xx::ScannerDevice::SentCounters> EmulatedScannerDevice::sent_counters()
     const {
   const EmulatorCounters c = emulator_->counters();
-  return SentCounters{c.scans_sent, c.scans_skipped, c.telegrams_sent, c.injected.total()};
+  return SentCounters{c.scans_sent, c.scans_skipped, c.telegrams_sent, c.injected.total(),
+                      c.injected.by_kind()};
 }
 
 }  // namespace tofcomp::sim::lms200

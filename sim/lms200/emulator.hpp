@@ -95,6 +95,7 @@ struct EmulatorCounters {
   std::uint64_t requests = 0;  // host telegrams with a good CRC
   std::uint64_t naks_sent = 0;
   std::uint64_t bytes_lost_to_rate_mismatch = 0;
+  std::uint64_t bytes_unheard_while_restarting = 0;  // the host's, during a reset's restart_s
   InjectedFaults injected;
   std::string failure;             // set when the emulator stopped on an error
   bool playback_finished = false;  // a recording was played to its end: no more scans come

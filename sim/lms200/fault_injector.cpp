@@ -50,6 +50,11 @@ void FaultRates::validate() const {
   }
 }
 
+std::vector<std::pair<std::string, std::uint64_t>> InjectedFaults::by_kind() const {
+  return {{"garbage", garbage}, {"dropped_byte", dropped_bytes}, {"corrupted_crc", corrupted_crcs},
+          {"stall", stalls},     {"hang_up", hang_ups},           {"reset", resets}};
+}
+
 FaultInjector::FaultInjector(FaultRates rates, std::uint64_t seed) : rates_(rates), rng_(seed) {
   rates_.validate();
 }

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tofcomp::sim::lms200 {
@@ -40,6 +41,8 @@ struct InjectedFaults {
   std::uint64_t resets = 0;
   std::uint64_t byte_faults() const { return garbage + dropped_bytes + corrupted_crcs; }
   std::uint64_t total() const { return byte_faults() + stalls + hang_ups + resets; }
+  // Each kind's count under its configuration name (`emulator.faults.<name>`), in that order.
+  std::vector<std::pair<std::string, std::uint64_t>> by_kind() const;
 };
 
 class FaultInjector {

@@ -198,6 +198,11 @@ awaitable<void> PtyLink::reader(std::uint64_t generation) {
       counters_.bytes_lost_to_rate_mismatch += n;
       continue;
     }
+    if (restarting_) {
+      std::lock_guard lock(mutex_);
+      counters_.bytes_unheard_while_restarting += n;
+      continue;
+    }
     outputs.clear();
     {
       std::lock_guard lock(mutex_);
@@ -313,6 +318,15 @@ awaitable<void> PtyLink::send_on_line(const std::vector<std::uint8_t>& bytes, bo
   // Answers go out at once and hold the line for their time after: the request/answer timing
   // the host driver's timeouts are built on.
   co_await asio::async_write(master_, asio::buffer(bytes), asio::redirect_error(use_awaitable, ec));
+  // The host has the whole answer now, as it would once its last byte had crossed the line: a
+  // rate switch it announced takes effect now, so that the host's next request at the new rate
+  // is heard (not lost to a device still holding the old rate for the answer's line time).
+  if (!queue_.empty() && queue_.front().action == DeviceOutput::Action::SwitchBaud) {
+    const unsigned baud = queue_.front().baud;
+    queue_.pop_front();
+    std::lock_guard lock(mutex_);
+    device_.set_baud(baud);
+  }
   co_await wait(pace, line_time);
 }
 
@@ -322,8 +336,12 @@ awaitable<void> PtyLink::restart() {
     device_.restart();
   }
   queue_.clear();
+  // Booting, the device hears nothing: a request in this time gets no answer, and the power-on
+  // telegram is the first thing it sends.
+  restarting_ = true;
   asio::steady_timer booting(io_);
   co_await wait(booting, wall_duration(settings_.restart_s));
+  restarting_ = false;
   if (powered_) enqueue_send(device_.power_on_telegram());
 }
 

@@ -88,6 +88,7 @@ class PtyLink {
   std::deque<DeviceOutput> queue_;
   bool writing_ = false;
   std::atomic<bool> powered_ = false;   // read by power_on() from other threads
+  bool restarting_ = false;  // a reset's restart_s: the device hears nothing until it has booted
   std::atomic<int> power_switch_ = -1;  // set_power(): 1 on, 0 off; -1 never switched
   boost::asio::steady_timer wake_writer_{io_, Clock::time_point::max()};
   boost::asio::steady_timer wake_source_{io_, Clock::time_point::max()};

@@ -7,8 +7,9 @@
 // memory limit is stopped and the daemon runs on; SIGTERM ends the daemon within its bound during
 // a long training; a ring planted by another user does not keep it from starting, nor a dead
 // daemon's pid the next start; reloads that change nothing restart no window; stale temporaries go
-// at start; --check-config loads every file it names. After each, the daemon still answers and
-// stops on SIGTERM.
+// at start; --check-config loads every file it names; the built-in link recovers from every fault
+// the emulator injects, each kind counted. After each, the daemon still answers and stops on
+// SIGTERM.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -18,6 +19,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -428,6 +430,47 @@ TEST(DaemonHardening, StaleTemporariesOfInterruptedWritesGoAtStart) {
   EXPECT_TRUE(std::filesystem::exists(kept));
   EXPECT_NE(d.log().find("removed " + stale.string()), std::string::npos) << d.log();
   d.still_serves_and_stops();
+}
+
+// The built-in default (no emulator.link: each hang-up makes a new pty) under every fault the
+// emulator injects, each at one telegram in a hundred: the stats count each kind by its name, the
+// kinds add up to the total, and the link recovers from all of them (issue 53, item 2).
+TEST(DaemonHardening, TheBuiltInLinkRecoversFromEveryFaultTheEmulatorInjects) {
+  HardenedDaemon d("faults");
+  std::string text = read_file(d.config);
+  replace_all(text, "  time_scale: 1.0\n",
+              "  time_scale: 1.0\n"
+              "  faults: {garbage: 0.01, dropped_byte: 0.01, corrupted_crc: 0.01, stall: 0.01,\n"
+              "           hang_up: 0.01, reset: 0.01, stall_s: 0.1}\n"
+              "  fault_seed: 53\n");
+  write_file(d.config, text);
+  d.start();
+  const std::vector<std::string> kinds = {"garbage", "dropped_byte", "corrupted_crc",
+                                          "stall",   "hang_up",      "reset"};
+  constexpr std::uint64_t kEachKind = 2;
+  json emulator;
+  const auto until = Clock::now() + 120s;
+  while (Clock::now() < until) {
+    emulator = d.request({{"op", "stats"}})["stats"]["emulator"];
+    const json& by_kind = emulator["faults_by_kind"];
+    if (std::all_of(kinds.begin(), kinds.end(), [&](const std::string& k) {
+          return by_kind.contains(k) && by_kind[k].get<std::uint64_t>() >= kEachKind;
+        })) {
+      break;
+    }
+    std::this_thread::sleep_for(100ms);
+  }
+  ASSERT_TRUE(emulator.contains("faults_by_kind")) << emulator.dump();
+  const json& by_kind = emulator["faults_by_kind"];
+  EXPECT_EQ(by_kind.size(), kinds.size()) << by_kind.dump();
+  std::uint64_t sum = 0;
+  for (const auto& kind : kinds) {
+    ASSERT_TRUE(by_kind.contains(kind)) << by_kind.dump();
+    EXPECT_GE(by_kind[kind].get<std::uint64_t>(), kEachKind) << kind << ": " << emulator.dump();
+    sum += by_kind[kind].get<std::uint64_t>();
+  }
+  EXPECT_EQ(sum, emulator["faults_injected"].get<std::uint64_t>()) << emulator.dump();
+  d.still_serves_and_stops();  // scans again after the last of them
 }
 
 // tofcompd --check-config on `config`: its exit status and what it printed.

@@ -159,6 +159,46 @@ TEST(Lms2xxLink, TheEmulatedSupplySwitchStopsAndRestartsTheScans) {
   EXPECT_GE(link.driver_counters().bring_ups, 2u);
 }
 
+// A device that restarts comes back at 9600 Bd with its output off, and its power-on telegram
+// at that rate never reaches a host at 500 kBd: the host, finding the stream silent for a few
+// scan intervals, asks at the power-on rate and brings it up again from there, long before its
+// scan timeout (5 s here, so that a recovery that waited it out would show as a stream timeout).
+TEST(Lms2xxLink, ARestartedDeviceIsFoundAtItsPowerOnRateWithoutAStreamTimeout) {
+  emu::EmulatorSettings settings = fast_emulator();
+  settings.faults.reset = 0.01;  // one telegram in a hundred
+  settings.fault_seed = 56;
+  lms::DriverSettings driver = driver_at(500000);
+  driver.scan_timeout = 5s;
+  LinkHarness link(settings, driver);
+  link.start();
+  constexpr std::uint64_t kResets = 8;
+  const auto limit = std::chrono::steady_clock::now() + 120s;
+  while (link.emulator_counters().injected.resets < kResets &&
+         std::chrono::steady_clock::now() < limit) {
+    std::this_thread::sleep_for(50ms);
+  }
+  // Until the host delivers a scan the device sent after the last reset.
+  const auto last_fault = link.last_fault_time();
+  const auto settle = std::chrono::steady_clock::now() + 30s;
+  while (!link.delivered_scan_sent_after(last_fault) && std::chrono::steady_clock::now() < settle) {
+    std::this_thread::sleep_for(50ms);
+  }
+  const bool recovered = link.delivered_scan_sent_after(last_fault);
+  link.stop();
+  // The resets the host had time to meet: those up to the last one waited for (the device goes
+  // on injecting until stop()).
+  const auto waited_out = static_cast<std::uint64_t>(
+      std::count_if(link.faults().begin(), link.faults().end(), [&](const auto& fault) {
+        return fault.first == emu::LinkFault::Reset && fault.second <= last_fault;
+      }));
+  const auto& host = link.driver_counters();
+  ASSERT_GE(waited_out, kResets);
+  EXPECT_TRUE(recovered) << "no scan after the last reset";
+  EXPECT_EQ(host.stream_timeouts, 0u) << "a restart was found only by waiting out scan_timeout";
+  EXPECT_GE(host.device_resets, waited_out);
+  EXPECT_GE(host.restart_checks, 1u);  // a reset in the middle of a bring-up fails that instead
+}
+
 // Hang-ups with no stable link (the daemon's built-in default): each makes a new pty, and the
 // host, asking at each opening which, streams again after every one.
 TEST(Lms2xxLink, EachHangUpsNewPtyIsFollowed) {
