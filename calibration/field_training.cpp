@@ -3,9 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 #include <sstream>
 
+#include "calibration/beam_scores.hpp"
 #include "calibration/junction_estimate.hpp"
 #include "calibration/measured_data_reader.hpp"
 #include "calibration/still_surfaces.hpp"
@@ -21,14 +21,6 @@ namespace {
 
 // The share of the progress the per-beam stage (junction, still episodes) takes; the fit the rest.
 constexpr double kBeamsShare = 0.4;
-
-std::vector<int> beams_of(const io::MeasurementTable& table) {
-  std::set<int> beams;
-  for (const io::MeasurementRow& row : table.rows) {
-    if (row.range_mm) beams.insert(row.beam.value_or(0));
-  }
-  return {beams.begin(), beams.end()};
-}
 
 // The ranges the fit takes, gathered over every beam of every record.
 struct FieldRanges {
@@ -130,7 +122,7 @@ core::Calibration starting_calibration(const std::vector<FieldRecord>& records,
     throw core::InvalidInput("field training without a bench calibration fits the thermal "
                              "network to the case log, and no record has case_temp_c readings");
   }
-  const std::vector<int> beams = beams_of(longest->table);
+  const std::vector<int> beams = beams_with_ranges(longest->table);
   const MeasuredData data = measured_data_from_table(longest->table, longest->source,
                                                      beams.empty() ? 0 : beams.front());
   core::Calibration c;
@@ -175,7 +167,7 @@ FieldTraining train_in_field(const std::vector<FieldRecord>& records,
   std::size_t beams_total = 0;
   std::vector<std::vector<int>> beams(records.size());
   for (std::size_t r = 0; r < records.size(); ++r) {
-    beams[r] = beams_of(records[r].table);
+    beams[r] = beams_with_ranges(records[r].table);
     beams_total += beams[r].size();
   }
   std::size_t done = 0;

@@ -31,16 +31,27 @@ struct WindowEvaluation {
   // every window counts as inside.
   core::ErrorMoments em_inside_trained;
   core::ErrorMoments em_beyond_trained;
+  std::vector<bool> beyond_trained;  // per window, where the truth is known
+  // Windows left out for holding a range that was not to be counted (not still).
+  Eigen::Index windows_left_out = 0;
 };
 
 // The three estimators on every window of each length (d̂ under the calibration's mixture, extended
 // or not) (stride apart), and their error moments
 // where the data carry the true distance (Fig. 16-19). `progress` gets the fraction done.
+// `counted` (empty: every range counts): per range, whether a window may hold it; a window
+// holding another is left out (WindowEvaluation::windows_left_out).
 std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
                                                const core::Calibration& calibration,
                                                const Compensation& compensation,
                                                const std::vector<Eigen::Index>& windows,
                                                Eigen::Index stride,
-                                               const std::function<void(double)>& progress = {});
+                                               const std::function<void(double)>& progress = {},
+                                               const std::vector<bool>& counted = {});
+
+// The windows of several beams' evaluations (each with the same window lengths, in the same
+// order) as one: their estimates and truths side by side and the error moments over them all.
+std::vector<WindowEvaluation> pool_window_evaluations(
+    const std::vector<std::vector<WindowEvaluation>>& per_beam);
 
 }  // namespace tofcomp::calibration

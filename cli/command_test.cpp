@@ -1,9 +1,13 @@
 // tofcomp test DATA --calibration C.yaml: estimate d on windows with a trained calibration
-// (§6, §8.4) and, where the data carry the true distance, the three estimators' errors.
+// (§6, §8.4) on every beam with a reference distance (or the one --beam names), windows holding
+// a range that is not still left out, and the three estimators' errors.
+#include "calibration/beam_scores.hpp"
+#include "cli/beam_scores_format.hpp"
 #include "cli/command.hpp"
 #include "cli/number_checks.hpp"
 
 #include "cli/figure_data.hpp"
+#include "io/measured_data_csv.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
 #include "cli/shared_options.hpp"
@@ -14,7 +18,8 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
   auto* cmd = app.add_subcommand(
       "test",
       "Estimate the distance on windows of ranges with a calibration (EM testing) and "
-      "report the errors of d̂, ȳ and mean(y − Hθ̂) − Σπμ where the truth is known");
+      "report the errors of d̂, ȳ and mean(y − Hθ̂) − Σπμ on every beam with a reference "
+      "(--beam: that one), windows holding a range that is not still left out");
   auto data = add_data_options(*cmd);
   auto calibration = std::make_shared<std::string>();
   auto windows = std::make_shared<std::string>("200,400,800");
@@ -33,18 +38,23 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
     run = [&common, data, calibration, windows, stride, figures] {
       Progress progress("test", !common.quiet);
       const core::Calibration c = io::read_calibration_file(*calibration);
-      const calibration::MeasuredData measured = data->load();
-      const calibration::Compensation compensation = calibration::compensate(measured, c);
-      const auto evaluations =
-          calibration::evaluate_windows(measured, c, compensation, parse_windows(*windows), *stride,
-                                        [&](double f) { progress.update(f, "windows"); });
+      const io::MeasurementTable table = io::read_measured_data_file(data->file);
+      const calibration::BeamScores scores = calibration::score_beams(
+          table, data->file, c, data->given_beam(), parse_windows(*windows), *stride,
+          [&](double f) { progress.update(f, "beams"); });
       if (!figures->empty()) {
-        write_figure_data(*figures, measured, c, compensation, evaluations, nullptr, nullptr);
+        if (scores.beams.size() != 1) {
+          throw core::InvalidInput("--figures draws one beam; " + data->file + " has " +
+                                   std::to_string(scores.beams.size()) +
+                                   " with a reference: name one with --beam");
+        }
+        const calibration::BeamScore& b = scores.beams.front();
+        write_figure_data(*figures, b.data, c, b.compensation, b.windows, nullptr, nullptr);
       }
       progress.done();
       CommandResult result;
-      result.json = {{"windows", to_json(evaluations)}, {"samples", measured.range_mm.size()}};
-      result.text = window_table_text(evaluations);
+      result.json = beam_scores_json(scores);
+      result.text = beam_scores_text(scores);
       return result;
     };
   });

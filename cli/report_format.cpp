@@ -128,6 +128,7 @@ nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluat
   for (const auto& e : evaluations) {
     nlohmann::json j = {{"window", e.window},
                         {"windows", e.estimates.start.size()},
+                        {"windows_left_out", e.windows_left_out},
                         {"cramer_rao_mae_mm", e.cramer_rao_mae_mm}};
     if (e.has_truth) {
       j["em"] = to_json(e.em);

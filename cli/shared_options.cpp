@@ -33,8 +33,13 @@ std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd) {
   cmd.add_option("data", o->file, "Measured data (interchange CSV)")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd.add_option("--beam", o->beam, "Beam index to analyse")->capture_default_str();
+  o->beam_option = cmd.add_option("--beam", o->beam, "Beam index to analyse")->capture_default_str();
   return o;
+}
+
+std::optional<int> DataOptions::given_beam() const {
+  if (beam_option != nullptr && beam_option->count() > 0) return beam;
+  return std::nullopt;
 }
 
 calibration::ThermalFitSettings ThermalOptions::settings() const {

@@ -19,6 +19,9 @@ inline constexpr int kMaxParallelism = 256;
 struct DataOptions {
   std::string file;
   int beam = 0;
+  const CLI::Option* beam_option = nullptr;
+  // The beam when --beam was given.
+  std::optional<int> given_beam() const;
   // Reads the beam; prints the reader's warnings on stderr.
   calibration::MeasuredData load() const;
 };

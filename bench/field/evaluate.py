@@ -2,7 +2,9 @@
 """Field calibration on a blind field suite (generate.py): for every case, the bench calibration
 (`tofcomp train BENCH`) and the field calibration (`tofcomp train BENCH FIELD... --calibration
 BENCH.yaml`) compensate the test day through the daemon's path (`tofcomp replay`); score.py alone
-reads the truth. Prints one table row per case and calibration, and the medians.
+reads the truth. Each is also tested with EM windows on the test day's file with references
+(`tofcomp test`: the windows holding a range that is not still left out). Prints one table row per
+case and calibration, and the medians.
 
     python3 bench/field/evaluate.py --tofcomp build/cli/tofcomp --suite DIR [--json OUT.json]
 
@@ -18,6 +20,7 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 WINDOWS = ("200", "400", "800")
+TEST_STRIDE = 10  # ranges between the starts of `tofcomp test`'s windows
 
 
 def run(command, verbose):
@@ -55,6 +58,21 @@ def evaluate_case(a, case, work):
         if done.returncode not in (0, 1):
             return {"case": case, "error": done.stderr.strip()[-300:]}
         out[name] = json.load(open(score))["results"]
+        # EM windows of the test day's still ranges against its references (`tofcomp test`):
+        # d-hat's MAE over the Cramér–Rao bound, inside the calibration's band and beyond it.
+        done = run([a.tofcomp, "-q", "--json", "test",
+                    os.path.join(directory, "test-with-reference.csv"), "--calibration",
+                    calibration, "--windows", ",".join(WINDOWS), "--stride", str(TEST_STRIDE)],
+                   a.verbose)
+        if done.returncode != 0:
+            return {"case": case, "error": done.stderr.strip()[-300:]}
+        tested = json.loads(done.stdout)
+        out[name + "_test"] = {
+            str(w["window"]): {band: (w[f"em_{band}_trained"]["mean_absolute_error_mm"]
+                                      / w["cramer_rao_mae_mm"]
+                                      if w[f"em_{band}_trained"]["count"] else None)
+                               for band in ("inside", "beyond")}
+            for w in tested["windows"]}
     return out
 
 
@@ -102,7 +120,20 @@ def main():
                 for n, v in zip(WINDOWS, values):
                     if v is not None:
                         medians.setdefault((name, key, n), []).append(v)
-    print("medians of the ratio to the oracle:")
+    print("EM windows of the test day (tofcomp test), MAE of d-hat over the Cramer-Rao bound:")
+    for r in rows:
+        if "error" in r:
+            continue
+        for name in ("bench", "field"):
+            t = r[name + "_test"]
+            fmt = lambda band: "/".join("-" if t[n][band] is None else f"{t[n][band]:.2f}"
+                                        for n in WINDOWS)
+            print(f"{r['case']} {name:6} | inside {fmt('inside'):>17} | beyond {fmt('beyond'):>17}")
+            for band in ("inside", "beyond"):
+                for n in WINDOWS:
+                    if t[n][band] is not None:
+                        medians.setdefault((name + " d-hat/CRB", band, n), []).append(t[n][band])
+    print("medians of the ratio to the oracle (and of d-hat over the bound):")
     for (name, band, n), values in sorted(medians.items()):
         print(f"  {name:6} {band:7} N={n}: {statistics.median(values):.2f} over {len(values)} cases")
     if a.json:

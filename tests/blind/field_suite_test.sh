@@ -12,7 +12,9 @@
 #     calibration's;
 #   no NaN or Inf published;
 #   the field days alone, without the bench (`tofcomp train FIELD...`), train in the field with the
-#     constant said to be not determined, and their calibration compensates the test day.
+#     constant said to be not determined, and their calibration compensates the test day;
+#   `tofcomp test` on the test day with its references scores every beam and leaves out windows
+#     where the scorer knows of occluded or gross ranges.
 # The figures themselves (a larger draw, the ratios to the oracle and the bound) are in
 # docs/field-calibration.md, not in this test.
 set -euo pipefail
@@ -36,16 +38,31 @@ for calibration in bench field; do
     > "$work/$calibration-score.txt" || [ $? -eq 1 ]
 done
 cat "$work/field-score.txt"
+"$tofcomp" -q --json test "$case_dir/test-with-reference.csv" --calibration "$work/field.yaml" \
+  --windows 400 --stride 10 > "$work/test.json"
 "$tofcomp" -q --json train "$case_dir"/field-*.csv -o "$work/alone.yaml" > "$work/alone.json"
 "$tofcomp" -q replay "$case_dir/test.csv" --calibration "$work/alone.yaml" \
   -o "$work/alone-replayed.csv" > /dev/null
 
 python3 - "$work/bench-score.json" "$work/field-score.json" "$work/alone.json" \
-  "$work/alone-replayed.csv" <<'PY'
+  "$work/alone-replayed.csv" "$work/test.json" "$case_dir/test.csv" <<'PY'
 import csv, json, math, sys
 
-bench, field, alone = (json.load(open(p)) for p in sys.argv[1:4])
+bench, field, alone, tested = (json.load(open(p)) for p in sys.argv[1:4] + sys.argv[5:6])
 problems = []
+# tofcomp test scores every beam of the test day (each has its reference) and leaves out the
+# windows that hold a range the scorer knows to be occluded or gross.
+with open(sys.argv[6], newline="") as f:
+    rows = csv.DictReader(line for line in f if not line.startswith("#"))  # metadata first
+    beams = {int(r["beam"] or 0) for r in rows if r["range_mm"]}
+if sorted(b["beam"] for b in tested["beams"]) != sorted(beams):
+    problems.append(f"tofcomp test scored beams {[b['beam'] for b in tested['beams']]} of {sorted(beams)}")
+occluded = sum(field["results"][band]["set_apart"]["outlier_ranges"] or 0 for band in ("inside", "beyond"))
+pooled = tested["windows"][0]
+if occluded and pooled["windows_left_out"] == 0:
+    problems.append(f"tofcomp test left out no window, with {occluded} ranges occluded or gross")
+if not math.isfinite(pooled["em"]["mean_absolute_error_mm"]):
+    problems.append("tofcomp test: d-hat's MAE is not finite")
 if alone["mode"] != "field" or alone["bench_calibration_given"] or alone["distance_determined"]:
     problems.append(f"the field days alone: {alone['mode']} training, bench given "
                     f"{alone['bench_calibration_given']}, distance determined "
