@@ -58,6 +58,24 @@ CommandResult train_in_field(std::vector<calibration::FieldRecord> records,
   return result;
 }
 
+// Field training takes every beam of each record, the basis chosen again over the field's
+// temperatures and the modes of the bench calibration (or the data): options that choose one beam
+// or fix those would be ignored, so they are refused by name.
+void refuse_one_beam_options(const DataOptions& data, const TrainingOptions& training) {
+  std::vector<std::string> given;
+  if (data.given_beam()) given.push_back("--beam");
+  if (training.basis != kAutoChoice) given.push_back("--basis");
+  if (training.modes != kAutoChoice) given.push_back("--modes");
+  if (given.empty()) return;
+  std::string names;
+  for (const auto& g : given) names += (names.empty() ? "" : ", ") + g;
+  throw core::InvalidInput(
+      names + ": field training (several records, --calibration, or a record without a "
+              "reference distance) uses every beam of each record, chooses the basis over the "
+              "records' temperatures and takes the modes from the bench calibration; these "
+              "apply to training one beam with a reference");
+}
+
 }  // namespace
 
 void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& run) {
@@ -89,11 +107,14 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
   cmd->callback([&common, &run, data, field, training, output, threads] {
     run = [&common, data, field, training, output, threads] {
       Progress progress("train", !common.quiet);
+      // Field training whatever the record holds: its options checked before anything is read.
+      if (!field->bench.empty() || !field->more.empty()) refuse_one_beam_options(*data, *training);
       progress.update(0.0, "reading " + data->file);
       calibration::FieldRecord first{io::read_measured_data_file(data->file), data->file};
       for (const auto& w : first.table.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
       calibration::TrainSettings settings = training->settings();
       if (!field->bench.empty() || !field->more.empty() || !has_reference(first.table)) {
+        refuse_one_beam_options(*data, *training);
         std::vector<calibration::FieldRecord> records;
         records.push_back(std::move(first));
         return train_in_field(std::move(records), *field, settings, *output, progress);

@@ -13,8 +13,6 @@
 namespace tofcomp::cli {
 namespace {
 
-// --basis and --modes: chosen from the data.
-constexpr const char* kAuto = "auto";
 constexpr const char* kJunctionFromRanges = "ranges";
 constexpr const char* kJunctionFromCaseLog = "case-log";
 constexpr int kMaxModes = 10;
@@ -114,8 +112,8 @@ calibration::TrainSettings TrainingOptions::settings() const {
   calibration::TrainSettings s;
   s.thermal = thermal->settings();
   s.kalman_noise = thermal->kalman_noise();
-  if (basis != kAuto) s.basis = basis;
-  if (modes != kAuto) {
+  if (basis != kAutoChoice) s.basis = basis;
+  if (modes != kAutoChoice) {
     std::size_t used = 0;
     int m = 0;
     try {

@@ -15,6 +15,8 @@ namespace tofcomp::cli {
 
 // The most threads or jobs a command takes at once (--threads, --jobs).
 inline constexpr int kMaxParallelism = 256;
+// --basis and --modes: chosen from the data.
+inline constexpr const char* kAutoChoice = "auto";
 
 struct DataOptions {
   std::string file;
@@ -42,8 +44,8 @@ std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd);
 
 struct TrainingOptions {
   std::shared_ptr<ThermalOptions> thermal;
-  std::string basis = "auto";  // auto: chosen from the data (core/structure_search.hpp)
-  std::string modes = "auto";
+  std::string basis = kAutoChoice;  // chosen from the data (core/structure_search.hpp)
+  std::string modes = kAutoChoice;
   bool paper_m_step = false;
   bool paper_init = false;
   int max_iterations = 1000;

@@ -381,8 +381,10 @@ awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& r
       pending_.reset();
       co_return false;
     }
-    // A device that announced a restart since the request went out never heard it.
-    if (counters_.device_resets != resets_before && !pending_->acked) {
+    // Checking a silent stream for a restart, a device that announces its restart since the
+    // request went out booted through it and never heard it. (At a bring-up a device's power-on
+    // telegram may precede its answer: the host opened the port as the device came up.)
+    if (checking_restart_ && counters_.device_resets != resets_before && !pending_->acked) {
       pending_.reset();
       co_return false;
     }
@@ -517,7 +519,15 @@ Clock::duration Lms2xxDriver::scan_interval() const {
 // answer there (stalled, or still restarting) is listened to again at the running rate.
 awaitable<bool> Lms2xxDriver::restarted_device_answers() {
   ++counters_.restart_checks;
-  const bool answered = co_await probe(kPowerOnBaud);
+  checking_restart_ = true;
+  bool answered = false;
+  try {
+    answered = co_await probe(kPowerOnBaud);
+  } catch (const LinkError&) {
+    checking_restart_ = false;
+    throw;
+  }
+  checking_restart_ = false;
   // Found when it answers, or when its power-on telegram came while the port listened there
   // (it restarted after the request was sent, and never heard it).
   if (answered || device_reset_seen_) {

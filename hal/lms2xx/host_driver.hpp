@@ -120,6 +120,7 @@ class Lms2xxDriver {
   bool link_lost_ = false;
   bool device_reset_seen_ = false;
   bool restarted_device_answered_ = false;  // a silent stream's check found it at 9600 Bd
+  bool checking_restart_ = false;           // restarted_device_answers() is asking
   bool device_answered_ = false;  // a telegram, ACK or NAK since the last bring-up began
   bool accepting_scans_ = false;  // variant and units confirmed in this bring-up
   std::uint64_t reader_generation_ = 0;

@@ -33,4 +33,23 @@ refused query subscibe "tofcomp query: 'subscibe' is not a subcommand; did you m
 refused query subscribe --evry 5 \
   "tofcomp query subscribe: '--evry' is not an option; did you mean '--every'?"
 refused query subscribe --jsn "tofcomp query subscribe: '--jsn' is not an option; did you mean '--json'?"
+# failed ARGS... EXPECTED: tofcomp ARGS must exit 1 with EXPECTED on stderr (refused by the
+# command, not by the parser).
+failed() {
+  local expected=${*: -1}
+  set +e
+  "$tofcomp" "${@:1:$#-1}" > /dev/null 2> "$work/err"
+  local status=$?
+  set -e
+  [ "$status" = 1 ] || fail "tofcomp ${*:1:$#-1}: status $status, not 1"
+  grep -qF -- "$expected" "$work/err" || fail "tofcomp ${*:1:$#-1}: no '$expected' in: $(cat "$work/err")"
+}
+# Field training uses every beam and chooses the basis itself: options it would ignore are named.
+printf 'time_s,range_mm\n0,1000\n' > "$work/field.csv"
+failed train "$work/field.csv" --calibration "$work/scenario.yaml" --beam 3 -o "$work/c.yaml" \
+  "--beam: field training"
+failed train "$work/field.csv" "$work/field.csv" --basis polynomial:2 --modes 2 -o "$work/c.yaml" \
+  "--basis, --modes: field training"
+failed train "$work/field.csv" --beam 1 -o "$work/c.yaml" "--beam: field training"
+
 echo "argument errors: all checks hold"
