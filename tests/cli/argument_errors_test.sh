@@ -1,24 +1,31 @@
 #!/usr/bin/env bash
 # What a user who mistypes meets, through the real binary: a number out of bounds is refused with
 # its bound in a few words (not CLI11's "not in range 0.000000 to 1797693…"), and a mistyped
-# subcommand or option gets a "did you mean" naming the right one. Exit status 2 for both.
+# subcommand or option gets a "did you mean" naming the right one (exit status 2 for both); field
+# training names the options it would ignore (exit status 1).
 set -euo pipefail
 tofcomp=$1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
-# refused ARGS... EXPECTED: tofcomp ARGS must exit 2 with EXPECTED on stderr.
-refused() {
+# exits STATUS ARGS... EXPECTED: tofcomp ARGS must exit STATUS with EXPECTED on stderr, and
+# never with CLI11's own range message.
+exits() {
+  local wanted=$1
+  shift
   local expected=${*: -1}
   set +e
   "$tofcomp" "${@:1:$#-1}" > /dev/null 2> "$work/err"
   local status=$?
   set -e
-  [ "$status" = 2 ] || fail "tofcomp ${*:1:$#-1}: status $status, not 2"
+  [ "$status" = "$wanted" ] || fail "tofcomp ${*:1:$#-1}: status $status, not $wanted"
   grep -qF -- "$expected" "$work/err" || fail "tofcomp ${*:1:$#-1}: no '$expected' in: $(cat "$work/err")"
   if grep -q "not in range\|179769" "$work/err"; then fail "CLI11's range message: $(cat "$work/err")"; fi
 }
+# Refused by the parser (status 2), or by the command once parsed (status 1).
+refused() { exits 2 "$@"; }
+failed() { exits 1 "$@"; }
 
 refused query subscribe -n 0 "--count: must be at least 1, not 0"
 refused query subscribe --every 0 "--every: must be between 1 and 1000000, not 0"
@@ -33,17 +40,6 @@ refused query subscibe "tofcomp query: 'subscibe' is not a subcommand; did you m
 refused query subscribe --evry 5 \
   "tofcomp query subscribe: '--evry' is not an option; did you mean '--every'?"
 refused query subscribe --jsn "tofcomp query subscribe: '--jsn' is not an option; did you mean '--json'?"
-# failed ARGS... EXPECTED: tofcomp ARGS must exit 1 with EXPECTED on stderr (refused by the
-# command, not by the parser).
-failed() {
-  local expected=${*: -1}
-  set +e
-  "$tofcomp" "${@:1:$#-1}" > /dev/null 2> "$work/err"
-  local status=$?
-  set -e
-  [ "$status" = 1 ] || fail "tofcomp ${*:1:$#-1}: status $status, not 1"
-  grep -qF -- "$expected" "$work/err" || fail "tofcomp ${*:1:$#-1}: no '$expected' in: $(cat "$work/err")"
-}
 # Field training uses every beam and chooses the basis itself: options it would ignore are named.
 printf 'time_s,range_mm\n0,1000\n' > "$work/field.csv"
 failed train "$work/field.csv" --calibration "$work/scenario.yaml" --beam 3 -o "$work/c.yaml" \
