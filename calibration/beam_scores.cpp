@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <set>
 
+#include "calibration/junction_estimate.hpp"
 #include "calibration/measured_data_reader.hpp"
 #include "calibration/still_surfaces.hpp"
 #include "core/error.hpp"
@@ -20,7 +21,8 @@ std::vector<int> beams_with_ranges(const io::MeasurementTable& table) {
 BeamScores score_beams(const io::MeasurementTable& table, const std::string& source,
                        const core::Calibration& calibration, std::optional<int> beam,
                        const std::vector<Eigen::Index>& windows, Eigen::Index stride,
-                       const std::function<void(double)>& progress) {
+                       const std::function<void(double)>& progress,
+                       const core::MeasurementModel* band) {
   std::vector<int> beams = beams_with_ranges(table);
   if (beam) {
     if (std::find(beams.begin(), beams.end(), *beam) == beams.end()) {
@@ -32,6 +34,7 @@ BeamScores score_beams(const io::MeasurementTable& table, const std::string& sou
   out.still_gate_mm = still_gate_mm(calibration.model.mixture);
   core::StillEpisodeOptions still;
   still.gate_mm = out.still_gate_mm;
+  RecordJunctions junctions(calibration.thermal, calibration.kalman_noise, calibration.ambient_c);
   for (std::size_t b = 0; b < beams.size(); ++b) {
     if (progress) progress(static_cast<double>(b) / static_cast<double>(beams.size()));
     MeasuredData data = measured_data_from_table(table, source, beams[b]);
@@ -47,9 +50,9 @@ BeamScores score_beams(const io::MeasurementTable& table, const std::string& sou
     for (std::size_t k = 0; k < counted.size(); ++k) counted[k] = s.episode[k] != core::kSetApart;
     BeamScore score;
     score.set_apart = static_cast<long>(std::count(counted.begin(), counted.end(), false));
-    score.compensation = compensate(data, calibration);
+    score.compensation = compensate(data, calibration, junctions.at(data));
     score.windows =
-        evaluate_windows(data, calibration, score.compensation, windows, stride, {}, counted);
+        evaluate_windows(data, calibration, score.compensation, windows, stride, {}, counted, band);
     score.data = std::move(data);
     out.beams.push_back(std::move(score));
   }

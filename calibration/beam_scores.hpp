@@ -40,9 +40,12 @@ std::vector<int> beams_with_ranges(const io::MeasurementTable& table);
 // Scores `calibration` on every beam of `table` (only `beam` when given) whose every range has a
 // reference. Throws core::InvalidInput when no beam has one (naming the source), or when `beam`
 // holds no range.
+// `band` (null: the calibration's own): the model whose trained junction range inside and
+// beyond are judged against.
 BeamScores score_beams(const io::MeasurementTable& table, const std::string& source,
                        const core::Calibration& calibration, std::optional<int> beam,
                        const std::vector<Eigen::Index>& windows, Eigen::Index stride,
-                       const std::function<void(double)>& progress = {});
+                       const std::function<void(double)>& progress = {},
+                       const core::MeasurementModel* band = nullptr);
 
 }  // namespace tofcomp::calibration

@@ -34,14 +34,14 @@ struct FieldRanges {
 
 // One beam: its junction temperatures, its ranges of known distance, its still episodes.
 BeamStillness gather_beam(const MeasuredData& data, const core::Calibration& bench,
-                          const core::StillEpisodeOptions& still, FieldRanges& out) {
+                          const core::StillEpisodeOptions& still, RecordJunctions& junctions,
+                          FieldRanges& out) {
   BeamStillness b;
   b.source = data.source;
   b.beam = data.beam;
   b.ranges = static_cast<long>(data.range_mm.size());
   if (data.range_mm.size() == 0) return b;
-  const SmoothedJunction junction =
-      junction_at_ranges(data, bench.thermal, bench.kalman_noise, bench.ambient_c);
+  const SmoothedJunction& junction = junctions.at(data);
   std::vector<Eigen::Index> unknown;
   for (Eigen::Index k = 0; k < data.range_mm.size(); ++k) {
     if (data.has_true_range[static_cast<std::size_t>(k)]) {
@@ -172,11 +172,12 @@ FieldTraining train_in_field(const std::vector<FieldRecord>& records,
   }
   std::size_t done = 0;
   for (std::size_t r = 0; r < records.size(); ++r) {
+    RecordJunctions junctions(bench.thermal, bench.kalman_noise, bench.ambient_c);
     for (const int beam : beams[r]) {
       report(kBeamsShare * static_cast<double>(done++) / static_cast<double>(beams_total),
              records[r].source + ", beam " + std::to_string(beam));
       const MeasuredData data = measured_data_from_table(records[r].table, records[r].source, beam);
-      t.beams.push_back(gather_beam(data, bench, still, ranges));
+      t.beams.push_back(gather_beam(data, bench, still, junctions, ranges));
     }
   }
   if (ranges.episodes == 0 && ranges.with_reference == 0) {

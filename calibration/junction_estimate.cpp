@@ -99,4 +99,15 @@ SmoothedJunction junction_at_ranges(const MeasuredData& data,
   return junction_at_ranges(thermal_record_grid(data, ambient_fallback_c), thermal, noise);
 }
 
+const SmoothedJunction& RecordJunctions::at(const MeasuredData& beam) {
+  const bool same_instants = computed_ && range_time_s_.size() == beam.range_time_s.size() &&
+                             range_time_s_ == beam.range_time_s;
+  if (!same_instants) {
+    junction_ = junction_at_ranges(beam, thermal_, noise_, ambient_fallback_c_);
+    range_time_s_ = beam.range_time_s;
+    computed_ = true;
+  }
+  return junction_;
+}
+
 }  // namespace tofcomp::calibration

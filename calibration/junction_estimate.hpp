@@ -48,4 +48,24 @@ SmoothedJunction junction_at_ranges(const ThermalRecordGrid& grid,
                                     const core::ThermalParameters& thermal,
                                     const core::ThermalNoise& noise);
 
+// The smoothed junction of the beams of one record, one beam after another: the beams of a scan
+// share its instant, so beams with the same range times share the smoothing, done once for them
+// (the smoother runs over the whole case log: many beams of a day took it as many times).
+class RecordJunctions {
+ public:
+  RecordJunctions(const core::ThermalParameters& thermal, const core::ThermalNoise& noise,
+                  double ambient_fallback_c)
+      : thermal_(thermal), noise_(noise), ambient_fallback_c_(ambient_fallback_c) {}
+  // The junction at the ranges of `beam`, a beam of the record the earlier calls took.
+  const SmoothedJunction& at(const MeasuredData& beam);
+
+ private:
+  core::ThermalParameters thermal_;
+  core::ThermalNoise noise_;
+  double ambient_fallback_c_;
+  Eigen::VectorXd range_time_s_;  // the times the junction below is at
+  SmoothedJunction junction_;
+  bool computed_ = false;
+};
+
 }  // namespace tofcomp::calibration

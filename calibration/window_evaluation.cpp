@@ -8,7 +8,7 @@ namespace {
 
 // Whether window i (starting at start, of length window) has a range whose bias is extrapolated:
 // a running count over the ranges' extrapolation flags.
-std::vector<bool> windows_beyond_trained(const core::Calibration& calibration,
+std::vector<bool> windows_beyond_trained(const core::MeasurementModel& band,
                                          const Compensation& compensation,
                                          const std::vector<Eigen::Index>& starts,
                                          Eigen::Index window) {
@@ -17,7 +17,7 @@ std::vector<bool> windows_beyond_trained(const core::Calibration& calibration,
   for (Eigen::Index k = 0; k < junction.size(); ++k) {
     extrapolated_before[static_cast<std::size_t>(k) + 1] =
         extrapolated_before[static_cast<std::size_t>(k)] +
-        (calibration.model.extrapolates(junction[k]) ? 1 : 0);
+        (band.extrapolates(junction[k]) ? 1 : 0);
   }
   std::vector<bool> out;
   out.reserve(starts.size());
@@ -66,8 +66,10 @@ Eigen::Index keep_counted_windows(core::WindowEstimates& estimates, Eigen::Index
   return left_out;
 }
 
-// The error moments of an evaluation whose estimates, truths and beyond flags are set.
+// The error moments of an evaluation whose estimates, truths and beyond flags are set; none
+// (count 0) where every window was left out.
 void fill_error_moments(WindowEvaluation& e) {
+  if (e.estimates.start.empty()) return;
   e.em = core::error_moments(e.estimates.em_distance, e.truth_mm);
   e.raw = core::error_moments(e.estimates.raw_mean, e.truth_mm);
   e.bias_corrected = core::error_moments(e.estimates.bias_corrected_mean, e.truth_mm);
@@ -90,7 +92,8 @@ std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
                                                const std::vector<Eigen::Index>& windows,
                                                Eigen::Index stride,
                                                const std::function<void(double)>& progress,
-                                               const std::vector<bool>& counted) {
+                                               const std::vector<bool>& counted,
+                                               const core::MeasurementModel* band) {
   if (!counted.empty() && counted.size() != static_cast<std::size_t>(data.range_mm.size())) {
     throw core::InvalidInput("window evaluation: " + std::to_string(counted.size()) +
                              " flags of what counts for " + std::to_string(data.range_mm.size()) +
@@ -129,7 +132,8 @@ std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
                 .mean();
       }
       e.beyond_trained =
-          windows_beyond_trained(calibration, compensation, e.estimates.start, e.window);
+          windows_beyond_trained(band ? *band : calibration.model, compensation,
+                                 e.estimates.start, e.window);
       fill_error_moments(e);
     }
     out.push_back(std::move(e));

@@ -40,14 +40,17 @@ struct WindowEvaluation {
 // or not) (stride apart), and their error moments
 // where the data carry the true distance (Fig. 16-19). `progress` gets the fraction done.
 // `counted` (empty: every range counts): per range, whether a window may hold it; a window
-// holding another is left out (WindowEvaluation::windows_left_out).
+// holding another is left out (WindowEvaluation::windows_left_out). `band` (null: the
+// calibration's own model): the model whose trained junction range inside and beyond are judged
+// against (a field calibration tested inside and beyond its bench calibration's band).
 std::vector<WindowEvaluation> evaluate_windows(const MeasuredData& data,
                                                const core::Calibration& calibration,
                                                const Compensation& compensation,
                                                const std::vector<Eigen::Index>& windows,
                                                Eigen::Index stride,
                                                const std::function<void(double)>& progress = {},
-                                               const std::vector<bool>& counted = {});
+                                               const std::vector<bool>& counted = {},
+                                               const core::MeasurementModel* band = nullptr);
 
 // The windows of several beams' evaluations (each with the same window lengths, in the same
 // order) as one: their estimates and truths side by side and the error moments over them all.

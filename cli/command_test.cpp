@@ -25,6 +25,7 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
   auto windows = std::make_shared<std::string>("200,400,800");
   auto stride = std::make_shared<long>(1);
   auto figures = std::make_shared<std::string>();
+  auto band_of = std::make_shared<std::string>();
   cmd->add_option("--calibration", *calibration, "Calibration file (from tofcomp train)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -34,14 +35,26 @@ void register_test(CLI::App& app, const CommonOptions& common, CommandRunner& ru
       ->check(at_least(1));
   cmd->add_option("--figures", *figures, "Directory for the data behind the paper's figures, as CSV files (drawn by "
                   "tofcomp diagnose --report)");
-  cmd->callback([&common, &run, data, calibration, windows, stride, figures] {
-    run = [&common, data, calibration, windows, stride, figures] {
+  cmd->add_option("--band-of", *band_of,
+                  "Calibration whose trained junction range inside and beyond are judged against "
+                  "(a field calibration against its bench's band; default: the one tested)")
+      ->check(CLI::ExistingFile);
+  cmd->callback([&common, &run, data, calibration, windows, stride, figures, band_of] {
+    run = [&common, data, calibration, windows, stride, figures, band_of] {
       Progress progress("test", !common.quiet);
       const core::Calibration c = io::read_calibration_file(*calibration);
+      std::optional<core::Calibration> band;
+      if (!band_of->empty()) {
+        band = io::read_calibration_file(*band_of);
+        if (!band->model.trained_junction_c) {
+          throw core::InvalidInput(*band_of + " names no trained junction range "
+                                   "(trained_junction_c): no band to judge against");
+        }
+      }
       const io::MeasurementTable table = io::read_measured_data_file(data->file);
       const calibration::BeamScores scores = calibration::score_beams(
           table, data->file, c, data->given_beam(), parse_windows(*windows), *stride,
-          [&](double f) { progress.update(f, "beams"); });
+          [&](double f) { progress.update(f, "beams"); }, band ? &band->model : nullptr);
       if (!figures->empty()) {
         if (scores.beams.size() != 1) {
           throw core::InvalidInput("--figures draws one beam; " + data->file + " has " +

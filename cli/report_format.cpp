@@ -130,7 +130,11 @@ nlohmann::json to_json(const std::vector<calibration::WindowEvaluation>& evaluat
                         {"windows", e.estimates.start.size()},
                         {"windows_left_out", e.windows_left_out},
                         {"cramer_rao_mae_mm", e.cramer_rao_mae_mm}};
-    if (e.has_truth) {
+    if (e.has_truth && e.em.count == 0) {  // every window left out: no error to state
+      j["em"] = to_json(e.em);
+      j["em_inside_trained"] = to_json(e.em_inside_trained);
+      j["em_beyond_trained"] = to_json(e.em_beyond_trained);
+    } else if (e.has_truth) {
       j["em"] = to_json(e.em);
       j["raw_mean"] = to_json(e.raw);
       j["bias_corrected_mean"] = to_json(e.bias_corrected);
@@ -186,6 +190,11 @@ std::string window_table_text(const std::vector<calibration::WindowEvaluation>& 
     if (!e.has_truth) {
       out += fmt::format("{:>7} {:>8}  (no true distance in the data: no errors)\n", e.window,
                          e.estimates.start.size());
+      continue;
+    }
+    if (e.em.count == 0) {
+      out += fmt::format("{:>7} {:>8}  (every window held a range that is not still: no errors)\n",
+                         e.window, 0);
       continue;
     }
     const std::pair<const char*, const core::ErrorMoments*> rows[] = {

@@ -59,10 +59,11 @@ def evaluate_case(a, case, work):
             return {"case": case, "error": done.stderr.strip()[-300:]}
         out[name] = json.load(open(score))["results"]
         # EM windows of the test day's still ranges against its references (`tofcomp test`):
-        # d-hat's MAE over the Cramér–Rao bound, inside the calibration's band and beyond it.
+        # d-hat's MAE over the Cramér–Rao bound, inside the bench calibration's band and beyond.
         done = run([a.tofcomp, "-q", "--json", "test",
                     os.path.join(directory, "test-with-reference.csv"), "--calibration",
-                    calibration, "--windows", ",".join(WINDOWS), "--stride", str(TEST_STRIDE)],
+                    calibration, "--band-of", bench_yaml, "--windows", ",".join(WINDOWS),
+                    "--stride", str(TEST_STRIDE)],
                    a.verbose)
         if done.returncode != 0:
             return {"case": case, "error": done.stderr.strip()[-300:]}

@@ -104,6 +104,32 @@ TEST(WindowEvaluation, AWindowHoldingARangeNotCountedIsLeftOut) {
   EXPECT_THROW(calibration::evaluate_windows(data, c, compensation, {kWindow}, 1, {},
                                              std::vector<bool>(3, true)),
                core::InvalidInput);
+  // Nothing counted: every window left out, and no error stated (not a failure).
+  const auto none = calibration::evaluate_windows(
+      data, c, compensation, {kWindow}, 1, {},
+      std::vector<bool>(static_cast<std::size_t>(data.range_mm.size()), false));
+  EXPECT_EQ(none.front().windows_left_out, static_cast<Eigen::Index>(kSeconds) - kWindow + 1);
+  EXPECT_EQ(none.front().em.count, 0);
+}
+
+// Inside and beyond judged against another calibration's band: a band that ends below the
+// record's junction puts every window beyond it; the calibration's own band (which holds the
+// record) puts none there.
+TEST(WindowEvaluation, InsideAndBeyondAreJudgedAgainstTheBandGiven) {
+  const core::Calibration c = shipped_calibration();
+  const calibration::MeasuredData data = calibration::measured_data_from_table(scene(), "scene", 0);
+  const calibration::Compensation compensation = calibration::compensate(data, c);
+  core::MeasurementModel band = c.model;
+  band.trained_junction_c = core::TemperatureRange{compensation.junction.junction_c.minCoeff() - 10.0,
+                                                   compensation.junction.junction_c.minCoeff() - 5.0};
+  const auto against_band =
+      calibration::evaluate_windows(data, c, compensation, {kWindow}, 10, {}, {}, &band);
+  EXPECT_EQ(against_band.front().em_beyond_trained.count, against_band.front().em.count);
+  band.trained_junction_c = core::TemperatureRange{compensation.junction.junction_c.minCoeff() - 1.0,
+                                                   compensation.junction.junction_c.maxCoeff() + 1.0};
+  const auto inside_band =
+      calibration::evaluate_windows(data, c, compensation, {kWindow}, 10, {}, {}, &band);
+  EXPECT_EQ(inside_band.front().em_inside_trained.count, inside_band.front().em.count);
 }
 
 }  // namespace

@@ -74,6 +74,30 @@ TEST(ThermalRecordGrid, TheJunctionAtEachRangeIsTheSmoothedHistoryAtItsInstant) 
   EXPECT_EQ(junction_at_ranges(data, thermal, noise, 22.0).junction_c, junction.junction_c);
 }
 
+// The beams of one record: a beam at the instants of the one before takes its smoothing; a beam
+// at other instants (a range missing, no echo) is smoothed at its own.
+TEST(RecordJunctions, BeamsAtTheSameInstantsShareTheSmoothingAndOthersGetTheirOwn) {
+  const core::ThermalParameters thermal = core::lms200_example_parameters();
+  const core::ThermalNoise noise;
+  RecordJunctions junctions(thermal, noise, 22.0);
+  MeasuredData beam0 = small_record();
+  MeasuredData beam1 = small_record();
+  beam1.beam = 1;
+  beam1.range_mm = Eigen::Vector3d(2000.0, 2001.0, 2002.0);
+  MeasuredData beam2 = small_record();
+  beam2.beam = 2;
+  beam2.range_time_s = Eigen::Vector2d(0.25, 2.75);
+  beam2.range_mm = Eigen::Vector2d(3000.0, 3001.0);
+  beam2.true_range_mm = Eigen::Vector2d(3000.0, 3000.0);
+  beam2.has_true_range = {true, true};
+  for (const MeasuredData* beam : {&beam0, &beam1, &beam2, &beam0}) {
+    const SmoothedJunction expected = junction_at_ranges(*beam, thermal, noise, 22.0);
+    const SmoothedJunction& got = junctions.at(*beam);
+    EXPECT_EQ(got.junction_c, expected.junction_c) << "beam " << beam->beam;
+    EXPECT_EQ(got.heating_rate_c_per_min, expected.heating_rate_c_per_min) << "beam " << beam->beam;
+  }
+}
+
 TEST(MeasuredData, TheMedianAmbientIsTheOneLoggedAtTheRanges) {
   // small_record: the ambient 20 °C until 2 s, 25 °C after; ranges at 0.5, 1 and 2.5 s.
   EXPECT_DOUBLE_EQ(small_record().median_ambient_at_ranges(22.0), 20.0);
