@@ -6,27 +6,33 @@
 namespace tofcomp::calibration {
 namespace {
 
-// Whether window i (starting at start, of length window) has a range whose bias is extrapolated:
-// a running count over the ranges' extrapolation flags.
+// Whether each window (starting at starts[i], of length window) holds a range whose flag is set:
+// a running count of the flags, two lookups a window.
+std::vector<bool> windows_holding_one(const std::vector<bool>& flags,
+                                      const std::vector<Eigen::Index>& starts,
+                                      Eigen::Index window) {
+  std::vector<Eigen::Index> set_before(flags.size() + 1, 0);
+  for (std::size_t k = 0; k < flags.size(); ++k) set_before[k + 1] = set_before[k] + (flags[k] ? 1 : 0);
+  std::vector<bool> out;
+  out.reserve(starts.size());
+  for (const Eigen::Index start : starts) {
+    const auto begin = static_cast<std::size_t>(start);
+    out.push_back(set_before[begin + static_cast<std::size_t>(window)] > set_before[begin]);
+  }
+  return out;
+}
+
+// Whether each window has a range whose bias is extrapolated (beyond the band's junction range).
 std::vector<bool> windows_beyond_trained(const core::MeasurementModel& band,
                                          const Compensation& compensation,
                                          const std::vector<Eigen::Index>& starts,
                                          Eigen::Index window) {
   const Eigen::VectorXd& junction = compensation.junction.junction_c;
-  std::vector<Eigen::Index> extrapolated_before(static_cast<std::size_t>(junction.size()) + 1, 0);
+  std::vector<bool> extrapolated(static_cast<std::size_t>(junction.size()));
   for (Eigen::Index k = 0; k < junction.size(); ++k) {
-    extrapolated_before[static_cast<std::size_t>(k) + 1] =
-        extrapolated_before[static_cast<std::size_t>(k)] +
-        (band.extrapolates(junction[k]) ? 1 : 0);
+    extrapolated[static_cast<std::size_t>(k)] = band.extrapolates(junction[k]);
   }
-  std::vector<bool> out;
-  out.reserve(starts.size());
-  for (const Eigen::Index start : starts) {
-    const auto begin = static_cast<std::size_t>(start);
-    out.push_back(extrapolated_before[begin + static_cast<std::size_t>(window)] >
-                  extrapolated_before[begin]);
-  }
-  return out;
+  return windows_holding_one(extrapolated, starts, window);
 }
 
 // The error moments of the windows whose flag equals `beyond`.
@@ -43,16 +49,12 @@ core::ErrorMoments moments_where(const Eigen::VectorXd& estimates, const Eigen::
 // Keeps the windows that hold no range `counted` excludes; returns how many went.
 Eigen::Index keep_counted_windows(core::WindowEstimates& estimates, Eigen::Index window,
                                   const std::vector<bool>& counted) {
-  std::vector<Eigen::Index> excluded_before(counted.size() + 1, 0);
-  for (std::size_t k = 0; k < counted.size(); ++k) {
-    excluded_before[k + 1] = excluded_before[k] + (counted[k] ? 0 : 1);
-  }
+  std::vector<bool> excluded(counted.size());
+  for (std::size_t k = 0; k < counted.size(); ++k) excluded[k] = !counted[k];
+  const std::vector<bool> holds_excluded = windows_holding_one(excluded, estimates.start, window);
   std::vector<Eigen::Index> rows;
-  for (std::size_t i = 0; i < estimates.start.size(); ++i) {
-    const auto begin = static_cast<std::size_t>(estimates.start[i]);
-    if (excluded_before[begin + static_cast<std::size_t>(window)] == excluded_before[begin]) {
-      rows.push_back(static_cast<Eigen::Index>(i));
-    }
+  for (std::size_t i = 0; i < holds_excluded.size(); ++i) {
+    if (!holds_excluded[i]) rows.push_back(static_cast<Eigen::Index>(i));
   }
   const auto left_out = static_cast<Eigen::Index>(estimates.start.size() - rows.size());
   std::vector<Eigen::Index> starts;

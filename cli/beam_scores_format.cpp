@@ -53,11 +53,14 @@ std::string beam_scores_text(const calibration::BeamScores& scores) {
   out += fmt::format(
       "still surfaces (gate {:.1f} mm): windows holding a range that is not still left out\n",
       scores.still_gate_mm);
-  out += fmt::format("{:>6} {:>9} {:>10} {:>18}  MAE EM / bound at {}\n", "beam", "ranges",
+  out += fmt::format("{:>6} {:>9} {:>10} {:>18}  MAE EM / bound\n", "beam", "ranges",
                      "set apart", "windows left out", lengths);
+  out += fmt::format("{:>6} {:>9} {:>10} {:>18}  at {}\n", "", "", "", "at " + lengths, lengths);
   for (const auto& b : scores.beams) {
-    long left_out = 0;
-    for (const auto& e : b.windows) left_out += static_cast<long>(e.windows_left_out);
+    std::string left_out;
+    for (const auto& e : b.windows) {
+      left_out += (left_out.empty() ? "" : "/") + std::to_string(e.windows_left_out);
+    }
     out += fmt::format("{:>6} {:>9} {:>10} {:>18}  {}\n", b.data.beam, b.data.range_mm.size(),
                        b.set_apart, left_out, ratios_text(b.windows));
   }

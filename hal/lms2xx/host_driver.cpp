@@ -344,7 +344,8 @@ void Lms2xxDriver::dispatch(const DecoderEvent& event, Clock::time_point when,
   if (on_scan_) on_scan_(scan);
 }
 
-awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& reply) {
+awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& reply,
+                                            OnRestart on_restart) {
   pending_ = std::make_unique<Pending>();
   pending_->reply_code = static_cast<std::uint8_t>(request.command | kReplyFlag);
   const auto bytes = encode_telegram(request);
@@ -384,7 +385,8 @@ awaitable<bool> Lms2xxDriver::exchange_once(const Telegram& request, Telegram& r
     // Checking a silent stream for a restart, a device that announces its restart since the
     // request went out booted through it and never heard it. (At a bring-up a device's power-on
     // telegram may precede its answer: the host opened the port as the device came up.)
-    if (checking_restart_ && counters_.device_resets != resets_before && !pending_->acked) {
+    if (on_restart == OnRestart::GiveUp && counters_.device_resets != resets_before &&
+        !pending_->acked) {
       pending_.reset();
       co_return false;
     }
@@ -411,10 +413,12 @@ awaitable<Telegram> Lms2xxDriver::transact(const Telegram& request, int attempts
 
 // Asks for the variant the host wants (a request the bring-up makes anyway): its reply is a
 // dozen bytes where the status reply is some 150, a sixth of a second at 9600 Bd.
-awaitable<bool> Lms2xxDriver::probe(unsigned baud) {
+awaitable<bool> Lms2xxDriver::probe(unsigned baud, OnRestart on_restart) {
   set_port_baud(baud);
   Telegram reply;
-  if (!co_await exchange_once(variant_request(settings_.variant), reply)) co_return false;
+  if (!co_await exchange_once(variant_request(settings_.variant), reply, on_restart)) {
+    co_return false;
+  }
   try {
     static_cast<void>(parse_variant_reply(reply));
   } catch (const core::InvalidInput&) {
@@ -519,15 +523,7 @@ Clock::duration Lms2xxDriver::scan_interval() const {
 // answer there (stalled, or still restarting) is listened to again at the running rate.
 awaitable<bool> Lms2xxDriver::restarted_device_answers() {
   ++counters_.restart_checks;
-  checking_restart_ = true;
-  bool answered = false;
-  try {
-    answered = co_await probe(kPowerOnBaud);
-  } catch (const LinkError&) {
-    checking_restart_ = false;
-    throw;
-  }
-  checking_restart_ = false;
+  const bool answered = co_await probe(kPowerOnBaud, OnRestart::GiveUp);
   // Found when it answers, or when its power-on telegram came while the port listened there
   // (it restarted after the request was sent, and never heard it).
   if (answered || device_reset_seen_) {

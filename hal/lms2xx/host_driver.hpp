@@ -120,7 +120,6 @@ class Lms2xxDriver {
   bool link_lost_ = false;
   bool device_reset_seen_ = false;
   bool restarted_device_answered_ = false;  // a silent stream's check found it at 9600 Bd
-  bool checking_restart_ = false;           // restarted_device_answers() is asking
   bool device_answered_ = false;  // a telegram, ACK or NAK since the last bring-up began
   bool accepting_scans_ = false;  // variant and units confirmed in this bring-up
   std::uint64_t reader_generation_ = 0;
@@ -133,9 +132,13 @@ class Lms2xxDriver {
   boost::asio::awaitable<void> idle_flusher();
   boost::asio::awaitable<void> bring_up();
   boost::asio::awaitable<unsigned> find_rate();
-  boost::asio::awaitable<bool> probe(unsigned baud);
+  // A request given up when the device announces a restart (a silent stream's check: a device
+  // that booted through the request never heard it).
+  enum class OnRestart { KeepWaiting, GiveUp };
+  boost::asio::awaitable<bool> probe(unsigned baud, OnRestart on_restart = OnRestart::KeepWaiting);
   boost::asio::awaitable<Telegram> transact(const Telegram& request, int attempts);
-  boost::asio::awaitable<bool> exchange_once(const Telegram& request, Telegram& reply);
+  boost::asio::awaitable<bool> exchange_once(const Telegram& request, Telegram& reply,
+                                             OnRestart on_restart = OnRestart::KeepWaiting);
   boost::asio::awaitable<std::string> watch_stream();
   boost::asio::awaitable<bool> restarted_device_answers();
   std::chrono::steady_clock::duration scan_interval() const;

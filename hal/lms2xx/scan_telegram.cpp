@@ -28,7 +28,7 @@ std::vector<std::uint8_t> encode_scan_data(const ScanTelegram& scan, MeasuringMo
   }
   const int bits = distance_bits(mode);
   std::vector<std::uint8_t> data;
-  data.reserve(2 * n + 3);
+  data.reserve(scan_data_bytes(static_cast<int>(n)));
   std::uint16_t header = static_cast<std::uint16_t>(n);
   header |= static_cast<std::uint16_t>(scan.partial_index << kPartialIndexShift);
   if (scan.partial) header |= kPartialFlag;
@@ -58,7 +58,7 @@ ScanTelegram decode_scan_data(std::span<const std::uint8_t> data, MeasuringMode 
                              " values, more than " + std::to_string(kMaxValuesPerScan));
   }
   // Values, then the status byte; a real-time scan index (2 bytes) may precede the status.
-  const std::size_t expected = 2 + 2 * n + 1;
+  const std::size_t expected = scan_data_bytes(static_cast<int>(n));
   if (data.size() != expected && data.size() != expected + 2) {
     throw core::InvalidInput("scan telegram: header announces " + std::to_string(n) +
                              " values (" + std::to_string(expected) + " bytes) but the data has " +
