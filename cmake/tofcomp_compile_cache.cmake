@@ -25,3 +25,15 @@ add_compile_options(-fdebug-prefix-map=${CMAKE_SOURCE_DIR}=.)
 # tables: backtraces and profiles with file and line, no variables) comes after it on every
 # command line and wins; the code generated is the same.
 add_compile_options($<$<CONFIG:RelWithDebInfo>:-g1>)
+
+# TOFCOMP_UNITY_BUILD (default ON): the product's libraries and programs compile their sources in
+# batches of kUnityBatch files, one compiler run each. What dominates a cold build is what every
+# unit compiles again, not what it parses: CLI11 2.1 (header-only) generates about 5 s of code
+# per unit that includes it, and each unit of Eq. 2-4 instantiates Eigen's matrix exponential.
+# In a batch that is done once. A source whose types GCC cannot place in a batch (coroutine
+# frames or a class of its header holding types of its anonymous namespace: -Wsubobject-linkage)
+# sets SKIP_UNITY_BUILD_INCLUSION. The tests, benchmarks and fuzz targets build file by file
+# (tests/CMakeLists.txt): their executables are one source each.
+option(TOFCOMP_UNITY_BUILD "Compile the product's sources in batches (a unity build)" ON)
+set(CMAKE_UNITY_BUILD ${TOFCOMP_UNITY_BUILD})
+set(CMAKE_UNITY_BUILD_BATCH_SIZE 8)

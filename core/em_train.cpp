@@ -17,8 +17,6 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr double kRelativeVarianceFloor = 1e-6;
-
 struct MStepResult {
   Eigen::VectorXd theta;
   MixtureParameters mixture;
@@ -216,7 +214,7 @@ bool modes_populated(const Eigen::MatrixXd& r, double min_weight) {
 }
 
 // A point of the iteration: parameters, and the E-step at them (with the exact step's sums).
-struct Point {
+struct EmIterate {
   MStepResult parameters;
   Eigen::MatrixXd responsibilities;
   double log_likelihood = 0.0;
@@ -230,7 +228,7 @@ class Iteration {
       : options_(options), k_(static_cast<double>(k)), result_(result) {}
 
   // Moves to `next` (its E-step done) and records it.
-  void arrive(Point&& next) {
+  void arrive(EmIterate&& next) {
     if (has_point_) {
       weight_change_ =
           (next.parameters.mixture.weight - point_.parameters.mixture.weight).cwiseAbs().maxCoeff();
@@ -260,14 +258,14 @@ class Iteration {
     }
     return at_cap();
   }
-  const Point& point() const { return point_; }
-  Point take() { return std::move(point_); }
+  const EmIterate& point() const { return point_; }
+  EmIterate take() { return std::move(point_); }
 
  private:
   const EmTrainOptions& options_;
   double k_;
   EmTrainResult& result_;
-  Point point_;
+  EmIterate point_;
   bool has_point_ = false;
   double previous_log_likelihood_ = -std::numeric_limits<double>::infinity();
   double weight_change_ = std::numeric_limits<double>::infinity();
@@ -328,7 +326,7 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
   // H is centred on the weighted mean of the last sweep (any centre gives the same step).
   Eigen::RowVectorXd centre = h.colwise().mean();
   const auto evaluate = [&](MStepResult parameters) {
-    Point out;
+    EmIterate out;
     out.parameters = std::move(parameters);
     // E-step (Eq. 18) at the parameters; for the exact step fused with its weighted sums.
     if (exact) {
@@ -344,7 +342,7 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
     return out;
   };
   // M-step (Eq. 19) from a point whose E-step is done.
-  const auto step = [&](const Point& from) {
+  const auto step = [&](const EmIterate& from) {
     require_modes_populated(from.responsibilities, options.min_mode_weight, result.iterations + 1,
                             "EM training");
     ++result.iterations;
@@ -383,7 +381,7 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
     if (alpha > 1.0) {
       if (std::optional<MStepResult> jump =
               decode(SquaremSteps::extrapolate(x0, r, v, alpha), p, modes, floor)) {
-        std::optional<Point> tried;
+        std::optional<EmIterate> tried;
         try {
           tried = evaluate(std::move(*jump));
         } catch (const NumericalError&) {
@@ -402,7 +400,7 @@ EmTrainResult train_em(const Eigen::Ref<const Eigen::MatrixXd>& h,
     }
     iteration.arrive(evaluate(std::move(x2)));
   }
-  Point last = iteration.take();
+  EmIterate last = iteration.take();
   result.log_likelihood = last.log_likelihood;
   result.responsibilities = std::move(last.responsibilities);
   current = std::move(last.parameters);

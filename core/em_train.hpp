@@ -49,6 +49,10 @@ struct EmStartingPoint {
 // stops EM (for fits whose likelihood is all that is read).
 inline constexpr double kWeightRuleOff = 2.0;
 
+// The variance floor's part that scales with the data: σ_i² ≥ this × var(ỹ) (EmTrainOptions,
+// FieldEmOptions).
+inline constexpr double kRelativeVarianceFloor = 1e-6;
+
 struct EmTrainOptions {
   int modes = 2;
   MStep m_step = MStep::Exact;

@@ -403,7 +403,7 @@ std::optional<ExtendedParameters> decode(const Eigen::VectorXd& v, const Extende
 }
 
 // A point of the iteration: parameters and the E-step at them.
-struct Point {
+struct ExtendedIterate {
   ExtendedParameters parameters;
   ExtendedResponsibilities responsibilities;
   double log_likelihood = 0.0;
@@ -520,7 +520,7 @@ ExtendedEmResult train_extended_em(const ExtendedDesign& design,
   Eigen::MatrixXd scratch;
   // E-step at the parameters (the extended mixture's, core/extended_mixture.hpp).
   const auto evaluate = [&](ExtendedParameters parameters) {
-    Point out;
+    ExtendedIterate out;
     out.parameters = std::move(parameters);
     if (fused) {
       out.sums = extended_step_sweep(design, y, out.parameters, centre, out.responsibilities);
@@ -535,7 +535,7 @@ ExtendedEmResult train_extended_em(const ExtendedDesign& design,
     return out;
   };
   // M-step from a point: the mean structure at its variances, then the rest of the noise.
-  const auto step = [&](const Point& from) {
+  const auto step = [&](const ExtendedIterate& from) {
     ExtendedParameters next = from.parameters;
     MeanStructure solved =
         fused ? solve_mean_structure(from.sums.gram, from.sums.gram_rhs, from.sums.centre,
@@ -558,9 +558,9 @@ ExtendedEmResult train_extended_em(const ExtendedDesign& design,
     return next;
   };
 
-  Point point = evaluate(start);
+  ExtendedIterate point = evaluate(start);
   double previous = -std::numeric_limits<double>::infinity();
-  const auto arrive = [&](Point&& next) {
+  const auto arrive = [&](ExtendedIterate&& next) {
     previous = point.log_likelihood;
     point = std::move(next);
     result.log_likelihood_trace.push_back(point.log_likelihood);
@@ -606,7 +606,7 @@ ExtendedEmResult train_extended_em(const ExtendedDesign& design,
       if (std::optional<ExtendedParameters> jump =
               decode(SquaremSteps::extrapolate(x0, r, v, alpha), x2, options.variance_floor)) {
         try {
-          Point tried = evaluate(std::move(*jump));
+          ExtendedIterate tried = evaluate(std::move(*jump));
           if (tried.log_likelihood >= point.log_likelihood) {
             pending = step(tried);
             steps.accepted(alpha);

@@ -15,7 +15,6 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr double kRelativeVarianceFloor = 1e-6;
 // Iterations of train_em that give the field fit its start when none is given: enough for the
 // modes to separate, not to converge (the episodes' distances are not yet fitted).
 constexpr int kStartIterations = 50;

@@ -19,12 +19,12 @@ namespace {
 
 // Ranges per chunk: a chunk's arrays (a few columns of this many doubles) stay in the L1/L2
 // cache, and the per-chunk matrix products are long enough to run at speed.
-constexpr Eigen::Index kChunk = 512;
+constexpr Eigen::Index kMixtureSweepChunk = 512;
 // Ranges per stripe: the sweeps' unit of work on the caller's threads. Each stripe's sums start
 // from zero and the stripes' are added in order, so the answer depends on this size, never on
 // the threads that ran the stripes. Long enough that a hand-off (a few microseconds) is small
 // against a stripe's work (about 40 µs at 10 ns a range), short enough to balance two cores.
-constexpr Eigen::Index kStripe = 8 * kChunk;
+constexpr Eigen::Index kStripe = 8 * kMixtureSweepChunk;
 
 int stripe_count(Eigen::Index k) { return static_cast<int>((k + kStripe - 1) / kStripe); }
 
@@ -68,7 +68,7 @@ struct EStepScratch {
   Eigen::ArrayXXd joint;
   Eigen::ArrayXd top, total, log_total;
   explicit EStepScratch(int modes)
-      : joint(kChunk, modes), top(kChunk), total(kChunk), log_total(kChunk) {}
+      : joint(kMixtureSweepChunk, modes), top(kMixtureSweepChunk), total(kMixtureSweepChunk), log_total(kMixtureSweepChunk) {}
 };
 
 using ChunkRows = Eigen::Block<Eigen::MatrixXd>;
@@ -172,11 +172,11 @@ ExactStepSums exact_step_sweep(const Eigen::Ref<const Eigen::MatrixXd>& h,
   for_each_stripe(k, parallel_for, [&](int stripe, Eigen::Index begin, Eigen::Index end) {
     ExactStepSums s = zero_sums();
     EStepScratch scratch(m);
-    Eigen::ArrayXd residual(kChunk), root(kChunk), root_y(kChunk);
-    Eigen::MatrixXd centred(kChunk, p);
-    Eigen::MatrixXd weights(kChunk, m);
-    for (Eigen::Index first = begin; first < end; first += kChunk) {
-      const Eigen::Index n = std::min(kChunk, end - first);
+    Eigen::ArrayXd residual(kMixtureSweepChunk), root(kMixtureSweepChunk), root_y(kMixtureSweepChunk);
+    Eigen::MatrixXd centred(kMixtureSweepChunk, p);
+    Eigen::MatrixXd weights(kMixtureSweepChunk, m);
+    for (Eigen::Index first = begin; first < end; first += kMixtureSweepChunk) {
+      const Eigen::Index n = std::min(kMixtureSweepChunk, end - first);
       const auto h_chunk = h.middleRows(first, n);
       auto e = residual.head(n);
       e = y.segment(first, n).array();
@@ -248,9 +248,9 @@ void exact_step_solve(const Eigen::Ref<const Eigen::MatrixXd>& h,
   std::vector<Eigen::ArrayXd> stripe_square(static_cast<std::size_t>(stripe_count(k)));
   for_each_stripe(k, parallel_for, [&](int stripe, Eigen::Index begin, Eigen::Index end) {
     Eigen::ArrayXd part = Eigen::ArrayXd::Zero(m);
-    Eigen::ArrayXd residual(kChunk);
-    for (Eigen::Index first = begin; first < end; first += kChunk) {
-      const Eigen::Index n = std::min(kChunk, end - first);
+    Eigen::ArrayXd residual(kMixtureSweepChunk);
+    for (Eigen::Index first = begin; first < end; first += kMixtureSweepChunk) {
+      const Eigen::Index n = std::min(kMixtureSweepChunk, end - first);
       auto e = residual.head(n);
       e = y.segment(first, n).array();
       if (p > 0) subtract_product(h.middleRows(first, n), theta, e.matrix());

@@ -17,6 +17,8 @@ namespace tofcomp::core {
 // a malformed scan.
 inline constexpr std::uint32_t kMaxInterlacedTurns = 4;
 
+inline constexpr std::int64_t kNsPerSecond = 1'000'000'000;
+
 struct RayTiming {
   std::int64_t first_ray_ns = 0;  // beam 0's ray, CLOCK_REALTIME ns since the epoch; 0: unknown
   double ray_interval_ns = 0.0;   // between consecutive rays of one turn

@@ -27,7 +27,6 @@ namespace tofcomp::daemon {
 
 namespace {
 
-constexpr int kRunningCalibrationFd = 3;
 // Processor time allowed beyond the wall-clock limit the daemon enforces: a backstop only.
 constexpr rlim_t kCpuGraceS = 10;
 constexpr int kLowestPriority = 19;  // nice

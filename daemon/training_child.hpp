@@ -12,6 +12,10 @@ namespace tofcomp::daemon {
 // The first argument that makes tofcompd the training child.
 inline constexpr const char* kTrainWorkerFlag = "--train-worker";
 
+// The descriptor on which the daemon hands the child the running calibration (the recording is
+// on standard input, the report on standard output, messages on standard error).
+inline constexpr int kRunningCalibrationFd = 3;
+
 // Exit statuses: 0 done; 1 training failed (the reason on stderr); 2 a bad command line; 3 the
 // memory limit was reached.
 int training_child_main(int argc, char** argv);

@@ -15,16 +15,16 @@
 #include <functional>
 #include <vector>
 
+#include "daemon/training_child.hpp"
+
 extern char** environ;
 
 namespace tofcomp::daemon {
 
 namespace {
 
-// File descriptors the child finds: its recording on standard input, the calibration on
-// standard output, messages on standard error, the running calibration on fd 3.
-constexpr int kRunningCalibrationFd = 3;
-constexpr int kFirstFreeFd = 4;
+// The first descriptor after those the child finds (daemon/training_child.hpp).
+constexpr int kFirstFreeFd = kRunningCalibrationFd + 1;
 // A descriptor moved out of the way of the ones above before they are set up in the child.
 constexpr int kHighFd = 10;
 // How often the wait for the child's exit looks again once its output has ended.
@@ -175,7 +175,7 @@ TrainingReport TrainingProcess::run(const TrainingRequest& request) {
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
 
   const std::string program = request.program.string();
-  std::vector<std::string> args = {program,          "--train-worker",
+  std::vector<std::string> args = {program,          kTrainWorkerFlag,
                                    "--source",       request.source,
                                    "--beam",         std::to_string(request.beam),
                                    "--datasheet",    request.datasheet.string(),
@@ -195,7 +195,7 @@ TrainingReport TrainingProcess::run(const TrainingRequest& request) {
   posix_spawnattr_destroy(&attributes);
   if (spawned != 0) {
     errno = spawned;
-    fail("cannot start " + program + " --train-worker");
+    fail("cannot start " + program + " " + kTrainWorkerFlag);
   }
   {
     std::lock_guard lock(mutex_);

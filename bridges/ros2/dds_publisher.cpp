@@ -6,12 +6,11 @@
 #include "bridges/ros2/bridge_config.hpp"
 #include "bridges/ros2/ros2_interfaces.h"
 #include "core/error.hpp"
+#include "core/ray_timing.hpp"
 
 namespace tofcomp::bridges::ros2 {
 
 namespace {
-
-constexpr std::int64_t kNsPerSecond = 1000000000;
 
 // A DDS return code below 0 is an error: throws naming the call.
 dds_entity_t checked(dds_entity_t result, const std::string& what) {
@@ -54,10 +53,10 @@ std_msgs_msg_dds__Header_ header(std::int64_t stamp_ns, const std::string& frame
 }  // namespace
 
 RosTime ros_time(std::int64_t ns) {
-  std::int64_t sec = ns / kNsPerSecond;
-  std::int64_t rest = ns % kNsPerSecond;
+  std::int64_t sec = ns / core::kNsPerSecond;
+  std::int64_t rest = ns % core::kNsPerSecond;
   if (rest < 0) {
-    rest += kNsPerSecond;
+    rest += core::kNsPerSecond;
     --sec;
   }
   return RosTime{static_cast<std::int32_t>(sec), static_cast<std::uint32_t>(rest)};

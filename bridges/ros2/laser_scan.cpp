@@ -15,7 +15,7 @@ namespace tofcomp::bridges::ros2 {
 namespace {
 
 constexpr double kMmPerMetre = 1000.0;
-constexpr double kNsPerSecond = 1e9;
+constexpr double kNsPerSecondReal = static_cast<double>(core::kNsPerSecond);
 
 float radians(double degrees) { return static_cast<float>(degrees * std::numbers::pi / 180.0); }
 
@@ -63,9 +63,9 @@ LaserScanValues laser_scan_from(const client::Scan& scan) {
     double sweep_ns = 0.0;
     for (std::size_t i = 0; i < count; ++i) sweep_ns = std::max(sweep_ns, rays.beam_offset_ns(i));
     out.time_increment =
-        count > 1 ? static_cast<float>(sweep_ns / static_cast<double>(count - 1) / kNsPerSecond) : 0.0f;
+        count > 1 ? static_cast<float>(sweep_ns / static_cast<double>(count - 1) / kNsPerSecondReal) : 0.0f;
     out.scan_time = static_cast<float>(static_cast<double>(rays.interlaced_turns) *
-                                       rays.turn_period_ns / kNsPerSecond);
+                                       rays.turn_period_ns / kNsPerSecondReal);
   } else {
     out.stamp_ns = info.timestamp_ns;  // a recording's scan: only its arrival is known
   }

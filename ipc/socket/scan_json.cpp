@@ -83,53 +83,53 @@ class JsonText {
   }
 };
 
-void encode_beam(JsonText& json, const ipc::BeamValue& beam, std::size_t index) {
-  json.open('{');
-  json.key("index");
-  json.integer(index);
-  json.key("raw_mm");
-  json.number(beam.raw_mm);
-  json.key("compensated_mm");
-  json.number(beam.compensated_mm);
-  json.key("window_mm");
-  json.number(beam.window_mm);
-  json.key("window_std_mm");
-  json.number(beam.window_std_mm);
-  json.key("flags");
-  json.integer(beam.flags);
-  json.key("flag_names");
-  json.open('[');
-  for (const auto& name : beam_flag_names(beam.flags)) json.name(name);
-  json.close(']');
-  json.key("mode_count");
-  json.integer(static_cast<unsigned>(beam.mode_count));
-  json.key("most_probable_mode");
-  json.integer(static_cast<unsigned>(beam.most_probable_mode));
-  json.key("mode_posterior");
-  json.open('[');
+void encode_beam(JsonText& text, const ipc::BeamValue& beam, std::size_t index) {
+  text.open('{');
+  text.key("index");
+  text.integer(index);
+  text.key("raw_mm");
+  text.number(beam.raw_mm);
+  text.key("compensated_mm");
+  text.number(beam.compensated_mm);
+  text.key("window_mm");
+  text.number(beam.window_mm);
+  text.key("window_std_mm");
+  text.number(beam.window_std_mm);
+  text.key("flags");
+  text.integer(beam.flags);
+  text.key("flag_names");
+  text.open('[');
+  for (const auto& name : beam_flag_names(beam.flags)) text.name(name);
+  text.close(']');
+  text.key("mode_count");
+  text.integer(static_cast<unsigned>(beam.mode_count));
+  text.key("most_probable_mode");
+  text.integer(static_cast<unsigned>(beam.most_probable_mode));
+  text.key("mode_posterior");
+  text.open('[');
   const std::size_t modes = std::min<std::size_t>(beam.mode_count, ipc::kMaxModes);
-  for (std::size_t m = 0; m < modes; ++m) json.number(beam.mode_posterior[m]);
-  json.close(']');
-  json.close('}');
+  for (std::size_t m = 0; m < modes; ++m) text.number(beam.mode_posterior[m]);
+  text.close(']');
+  text.close('}');
 }
 
 // "rays": when the scan's rays were measured (core/ray_timing.hpp), null when unknown.
-void encode_rays(JsonText& json, const core::RayTiming& rays) {
-  json.key("rays");
+void encode_rays(JsonText& text, const core::RayTiming& rays) {
+  text.key("rays");
   if (!rays.known()) {
-    json.number(std::numeric_limits<double>::quiet_NaN());  // null
+    text.number(std::numeric_limits<double>::quiet_NaN());  // null
     return;
   }
-  json.open('{');
-  json.key("first_ray_ns");
-  json.integer(rays.first_ray_ns);
-  json.key("ray_interval_ns");
-  json.number(rays.ray_interval_ns);
-  json.key("turn_period_ns");
-  json.number(rays.turn_period_ns);
-  json.key("interlaced_turns");
-  json.integer(rays.interlaced_turns);
-  json.close('}');
+  text.open('{');
+  text.key("first_ray_ns");
+  text.integer(rays.first_ray_ns);
+  text.key("ray_interval_ns");
+  text.number(rays.ray_interval_ns);
+  text.key("turn_period_ns");
+  text.number(rays.turn_period_ns);
+  text.key("interlaced_turns");
+  text.integer(rays.interlaced_turns);
+  text.close('}');
 }
 
 }  // namespace
