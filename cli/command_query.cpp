@@ -17,6 +17,7 @@
 #include "cli/scan_text.hpp"
 #include "cli/stream_output.hpp"
 #include "core/error.hpp"
+#include "ipc/default_places.hpp"
 #include "ipc/instance_name.hpp"
 #include "ipc/socket/protocol_constants.hpp"
 #include "ipc/socket/scan_json.hpp"
@@ -33,7 +34,8 @@ using nlohmann::json;
 constexpr int kUntilStopped = 0;
 
 struct QueryOptions {
-  std::string socket = ipcs::kDefaultSocketPath;
+  // Your own tofcompd's when it runs, the system's otherwise (ipc/default_places.hpp).
+  std::string socket = ipc::socket_to_read(ipc::current_user_environment()).string();
   std::string instance;  // --instance: its socket replaces `socket`
   double timeout_s = 5.0;
   std::string beams;  // FIRST:LAST, or one index
@@ -164,7 +166,9 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
                          "Ask a running tofcompd over its socket: latest, status, stats, reload, "
                          "recalibrate, subscribe");
   auto o = std::make_shared<QueryOptions>();
-  auto* socket = cmd->add_option("--socket", o->socket, "tofcompd's socket")->capture_default_str();
+  auto* socket = cmd->add_option("--socket", o->socket,
+                                 "tofcompd's socket; default: your own tofcompd's when it runs, "
+                                 "the system's otherwise")->capture_default_str();
   cmd->add_option("-i,--instance", o->instance,
                   "The socket of tofcompd instance NAME (tofcompd@NAME.service): "
                   "/run/tofcompd/NAME/tofcompd.sock")

@@ -17,6 +17,7 @@
 #include "cli/scan_text.hpp"
 #include "cli/stream_output.hpp"
 #include "core/error.hpp"
+#include "ipc/default_places.hpp"
 #include "ipc/instance_name.hpp"
 #include "ipc/ring/ring_reader.hpp"
 #include "ipc/socket/scan_json.hpp"
@@ -29,7 +30,8 @@ namespace {
 namespace ring = tofcomp::ipc::ring;
 
 struct ShmDumpOptions {
-  std::string name = ring::kDefaultRingName;
+  // Your own tofcompd's when it runs, the system's otherwise (ipc/default_places.hpp).
+  std::string name = ipc::ring_to_read(ipc::current_user_environment());
   std::string instance;  // --instance: its ring replaces `name`
   bool follow = false;
   int count = 0;  // 0: the newest scan, or with --follow every scan until stopped
@@ -247,7 +249,9 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
       "or with --follow each new one");
   auto o = std::make_shared<ShmDumpOptions>();
   auto* name =
-      cmd->add_option("name", o->name, "Name of the ring's shm object")->capture_default_str();
+      cmd->add_option("name", o->name,
+                     "Name of the ring's shm object; default: your own tofcompd's when it runs, "
+                     "the system's otherwise")->capture_default_str();
   cmd->add_option("-i,--instance", o->instance,
                   "The ring of tofcompd instance NAME (tofcompd@NAME.service): /tofcompd-NAME")
       ->check([](const std::string& instance) { return ipc::instance_name_problem(instance); },

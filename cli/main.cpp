@@ -43,9 +43,15 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int status = app.exit(e);
-    std::fputs(unknown_argument_hint(app).c_str(), stderr);
-    return status == 0 ? 0 : 2;
+    // A typo gets the suggestion alone: CLI11's own message for it ("A subcommand is required",
+    // "The following arguments were not expected: 3 --bem") would come first and mislead.
+    const std::string hint = unknown_argument_hint(app);
+    if (!hint.empty()) {
+      std::fputs(hint.c_str(), stderr);
+      std::fputs("Run with --help for more information.\n", stderr);
+      return 2;
+    }
+    return app.exit(e) == 0 ? 0 : 2;
   }
 
   const std::string name = app.get_subcommands().front()->get_name();

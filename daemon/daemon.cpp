@@ -19,7 +19,7 @@ using Clock = std::chrono::steady_clock;
 constexpr std::chrono::milliseconds kHousekeepingPeriod{100};
 
 Daemon::Daemon(settings::DaemonConfig config, std::filesystem::path config_file,
-               settings::OutputOverrides overrides)
+               settings::CommandLineOverrides overrides)
     // The stale temporaries go first, before the socket appears: a client that sees the socket
     // sees the directory as the daemon will keep it.
     : config_(after_removing_stale_temporaries(std::move(config)), std::move(config_file),

@@ -42,7 +42,7 @@ class Daemon {
   // calibration file, the ring, the socket, the emulator, the sensor backend. `overrides`: the
   // command line's socket and ring, already applied to `config` and applied again at reloads.
   Daemon(settings::DaemonConfig config, std::filesystem::path config_file,
-         settings::OutputOverrides overrides = {});
+         settings::CommandLineOverrides overrides = {});
   ~Daemon();
   Daemon(const Daemon&) = delete;
   Daemon& operator=(const Daemon&) = delete;

@@ -8,7 +8,7 @@
 namespace tofcomp::daemon {
 
 RunningConfig::RunningConfig(settings::DaemonConfig config, std::filesystem::path file,
-                             settings::OutputOverrides overrides)
+                             settings::CommandLineOverrides overrides)
     : config_(std::move(config)), file_(std::move(file)), overrides_(std::move(overrides)) {}
 
 std::string RunningConfig::name() const {
@@ -22,7 +22,7 @@ std::string RunningConfig::source() const {
 settings::DaemonConfig RunningConfig::read() const {
   settings::DaemonConfig config = file_.empty() ? settings::embedded_default_config()
                                                 : settings::load_daemon_config(file_);
-  settings::apply_output_overrides(overrides_, config);
+  settings::apply_command_line_overrides(overrides_, config);
   return config;
 }
 

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "settings/daemon_config.hpp"
-#include "settings/output_overrides.hpp"
+#include "settings/command_line_overrides.hpp"
 
 namespace tofcomp::daemon {
 
@@ -17,7 +17,7 @@ class RunningConfig {
   // file: where reloads read from; empty: the configuration is the built-in default and a
   // reload re-reads that. overrides: the command line's socket and ring, applied to every read.
   RunningConfig(settings::DaemonConfig config, std::filesystem::path file,
-                settings::OutputOverrides overrides = {});
+                settings::CommandLineOverrides overrides = {});
 
   const settings::DaemonConfig& current() const { return config_; }
   // What the daemon runs on, for its status: "built-in default" or the file's path.
@@ -36,7 +36,7 @@ class RunningConfig {
  private:
   settings::DaemonConfig config_;
   std::filesystem::path file_;
-  settings::OutputOverrides overrides_;
+  settings::CommandLineOverrides overrides_;
 };
 
 }  // namespace tofcomp::daemon

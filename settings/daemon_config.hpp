@@ -101,7 +101,8 @@ struct CompensationConfig {
 };
 
 // `outputs.socket`: the Unix socket of JSON lines. The defaults are the socket server's own
-// (ipc/socket/server_defaults.hpp).
+// (ipc/socket/server_defaults.hpp); the path is the system's, and the reader puts who runs's
+// (ipc/default_places.hpp).
 struct SocketOutputConfig {
   std::filesystem::path path = ipc::socket::kDefaultSocketPath;
   unsigned mode = ipc::socket::kDefaultSocketMode;
@@ -111,7 +112,7 @@ struct SocketOutputConfig {
   std::chrono::seconds idle_timeout = ipc::socket::kDefaultIdleTimeout;  // key idle_timeout_s
 };
 
-// `outputs.shm`: the POSIX shared-memory ring.
+// `outputs.shm`: the POSIX shared-memory ring; the name as the socket's path.
 struct ShmOutputConfig {
   std::string name = "/tofcompd";
   int slots = 64;
@@ -127,6 +128,7 @@ struct OutputsConfig {
 // (shared/docs/data-format.md), a new file when either rotation limit is reached.
 struct RecordingConfig {
   bool enabled = false;
+  // The system's; the reader puts who runs's (ipc/default_places.hpp).
   std::filesystem::path directory = "/var/lib/tofcompd/recordings";
   std::optional<long> max_rows;
   std::optional<long> max_minutes = 60;

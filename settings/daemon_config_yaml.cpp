@@ -22,6 +22,8 @@ namespace {
 // alias-multiplied document ("billion laughs") costs little.
 constexpr io::YamlShapeLimits kConfigShapeLimits{.max_depth = 16, .max_values = 100000};
 constexpr std::uint64_t kMaxConfigBytes = 1u << 20;
+// recording.directory's default under the state directory.
+constexpr const char* kRecordingsFolder = "recordings";
 
 // The text to one document, strictly (io::load_yaml_text: one document, no NUL, no key twice,
 // only text keys, within the limits); an empty configuration is an empty mapping.
@@ -41,6 +43,9 @@ DaemonConfig read_sections(const YAML::Node& document, const sections::ParseCont
                          {"link", "emulator", "case_sensor", "power", "calibration", "compensation",
                           "outputs", "recording", "recalibration", "log"});
   DaemonConfig config;
+  config.outputs.socket.path = context.places.socket;
+  config.outputs.shm.name = context.places.ring;
+  config.recording.directory = context.places.state_directory / kRecordingsFolder;
   sections::parse_link(root, context, config.link);
   sections::parse_emulator(root, context, config.emulator);
   sections::parse_case_sensor(root, context, config.case_sensor);
@@ -60,13 +65,19 @@ DaemonConfig read_sections(const YAML::Node& document, const sections::ParseCont
 
 }  // namespace
 
+ipc::DaemonPlaces default_places_for_this_user() {
+  return ipc::daemon_places(ipc::current_user_environment());
+}
+
 DaemonConfig parse_daemon_config(std::string_view text, const std::string& source_name,
-                                 const std::filesystem::path& base_directory) {
+                                 const std::filesystem::path& base_directory,
+                                 const ipc::DaemonPlaces& places) {
   try {
-    const sections::ParseContext context{std::filesystem::absolute(base_directory.empty()
-                                                                       ? std::filesystem::path(".")
-                                                                       : base_directory)
-                                             .lexically_normal()};
+    const sections::ParseContext context{
+        std::filesystem::absolute(base_directory.empty() ? std::filesystem::path(".")
+                                                         : base_directory)
+            .lexically_normal(),
+        places};
     const YAML::Node document = parse_document(text, source_name);
     DaemonConfig config = read_sections(document, context);
     config.source = source_name;
@@ -84,7 +95,8 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
   }
 }
 
-DaemonConfig load_daemon_config(const std::filesystem::path& file) {
+DaemonConfig load_daemon_config(const std::filesystem::path& file,
+                                const ipc::DaemonPlaces& places) {
   const std::string source = file.string();
   std::string text;
   try {
@@ -102,7 +114,7 @@ DaemonConfig load_daemon_config(const std::filesystem::path& file) {
   } catch (const std::filesystem::filesystem_error& e) {
     throw DaemonConfigError(source + ": " + e.what());
   }
-  return parse_daemon_config(text, source, base);
+  return parse_daemon_config(text, source, base, places);
 }
 
 }  // namespace tofcomp::settings

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "io/yaml_fields.hpp"
+#include "ipc/default_places.hpp"
 #include "settings/daemon_config.hpp"
 
 namespace tofcomp::settings::sections {
@@ -13,6 +14,7 @@ namespace tofcomp::settings::sections {
 // What every section reader needs besides its mapping.
 struct ParseContext {
   std::filesystem::path base_directory;  // relative paths are resolved against it
+  ipc::DaemonPlaces places;  // the defaults of the socket, the ring and the recordings' folder
 };
 
 void parse_link(const io::YamlMap& root, const ParseContext& context, LinkConfig& out);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # What a user who mistypes meets, through the real binary: a number out of bounds is refused with
 # its bound in a few words (not CLI11's "not in range 0.000000 to 1797693…"), and a mistyped
-# subcommand or option gets a "did you mean" naming the right one (exit status 2 for both); field
+# subcommand or option gets a "did you mean" naming the right one, and that message alone (exit
+# status 2 for both); field
 # training names the options it would ignore (exit status 1).
 set -euo pipefail
 tofcomp=$1
@@ -47,5 +48,16 @@ failed train "$work/field.csv" --calibration "$work/scenario.yaml" --beam 3 -o "
 failed train "$work/field.csv" "$work/field.csv" --basis polynomial:2 --modes 2 -o "$work/c.yaml" \
   "--basis, --modes: field training"
 failed train "$work/field.csv" --beam 1 -o "$work/c.yaml" "--beam: field training"
+
+# A typo gets one message, the suggestion, not CLI11's own before it.
+alone() {
+  refused "$@"
+  if grep -q "subcommand is required\|not expected" "$work/err"; then
+    fail "tofcomp ${*:1:$#-1}: CLI11's message besides the suggestion: $(cat "$work/err")"
+  fi
+}
+alone evalute "tofcomp: 'evalute' is not a subcommand; did you mean 'evaluate'?"
+alone train "$work/field.csv" --bem 3 -o "$work/c.yaml" \
+  "tofcomp train: '--bem' is not an option; did you mean '--beam'?"
 
 echo "argument errors: all checks hold"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # tools/run-main.sh builds only what the main job runs: the targets it gives tools/build.sh are
-# tofcompd and tofcomp, and building them builds no test (ninja's commands for them link no
+# tofcompd, tofcomp and the client library, and building them builds no test (ninja's commands for them link no
 # *_test), while building everything, as tools/run-tests.sh does, does.
 set -euo pipefail
 root=$1
@@ -8,7 +8,7 @@ build=$2
 fail() { echo "FAIL: $*"; exit 1; }
 
 targets=$(sed -n 's/^TOFCOMP_BUILD_TARGETS="\([^"]*\)" bash .*tools\/build.sh.*/\1/p' "$root/tools/run-main.sh")
-[ "$targets" = "tofcompd tofcomp" ] || fail "run-main.sh builds '$targets'"
+[ "$targets" = "tofcompd tofcomp tofcomp_client" ] || fail "run-main.sh builds '$targets'"
 grep -q 'TOFCOMP_BUILD_TARGETS' "$root/tools/run-tests.sh" && fail "run-tests.sh builds only some targets"
 # shellcheck disable=SC2086
 ninja -C "$build" -t commands $targets > "$build/main-job-commands.txt"
