@@ -61,10 +61,7 @@ void register_calibrate_dir(CLI::App& app, const CommonOptions& common, CommandR
       ->required();
   cmd->add_option("--beam", o->beam, "Beam index to analyse in every recording")
       ->capture_default_str();
-  cmd->add_option("-j,--jobs", o->jobs,
-                  "Recordings calibrated at once (default: one per core; the results do not "
-                  "depend on it)")
-      ->check(between(1, kMaxParallelism));
+  add_parallelism_option(*cmd, "-j,--jobs", o->jobs, "Recordings calibrated");
   auto training = add_training_options(*cmd);
   auto search = add_search_options(*cmd);
   cmd->callback([&common, &run, o, training, search] {

@@ -105,9 +105,8 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
                   "A calibration trained on these data to start from (default: train one)")
       ->check(CLI::ExistingFile);
   auto search_options = add_search_options(*cmd);
-  cmd->add_option("--threads", s->threads, "Fits run at once: the structure search's folds and the model search's candidates "
-                  "(default: one per core; the results do not depend on it)")
-      ->check(between(1, kMaxParallelism));
+  add_parallelism_option(*cmd, "--threads", s->threads,
+                         "Fits (the structure search's folds, the model search's candidates) run");
   cmd->add_option("--calibration-output", s->calibration_output,
                   "Write the calibration with the kept terms (for tofcomp test, replay and "
                   "tofcompd); the trained one when the search kept nothing");

@@ -100,10 +100,8 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
   auto output = std::make_shared<std::string>();
   cmd->add_option("-o,--output", *output, "Calibration file to write (YAML)")->required();
   auto threads = std::make_shared<int>(0);
-  cmd->add_option("--threads", *threads,
-                  "Fits run at once: the structure search's folds (default: one per core; the "
-                  "results do not depend on it)")
-      ->check(between(1, kMaxParallelism));
+  add_parallelism_option(*cmd, "--threads", *threads,
+                         "Fits (the structure search's folds) run");
   cmd->callback([&common, &run, data, field, training, output, threads] {
     run = [&common, data, field, training, output, threads] {
       Progress progress("train", !common.quiet);

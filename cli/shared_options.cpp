@@ -11,6 +11,16 @@
 #include "io/datasheet_file.hpp"
 
 namespace tofcomp::cli {
+
+CLI::Option* add_parallelism_option(CLI::App& cmd, const std::string& names, int& count,
+                                    const std::string& what) {
+  return cmd
+      .add_option(names, count,
+                  what + " at once (0, the default: one per core; the results do not depend on "
+                         "it)")
+      ->check(between(0, kMaxParallelism));
+}
+
 namespace {
 
 constexpr const char* kJunctionFromRanges = "ranges";

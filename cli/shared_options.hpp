@@ -15,6 +15,11 @@ namespace tofcomp::cli {
 
 // The most threads or jobs a command takes at once (--threads, --jobs).
 inline constexpr int kMaxParallelism = 256;
+// --threads or --jobs (`names`, CLI11's "-j,--jobs"): how many of `what` run at once, 0 (the
+// default) one per core; the help says the results do not depend on it.
+CLI::Option* add_parallelism_option(CLI::App& cmd, const std::string& names, int& count,
+                                    const std::string& what);
+
 // --basis and --modes: chosen from the data.
 inline constexpr const char* kAutoChoice = "auto";
 

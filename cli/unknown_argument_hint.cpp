@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "cli/closest_names.hpp"
+#include "io/closest_names.hpp"
 
 namespace tofcomp::cli {
 
@@ -67,7 +67,7 @@ std::string unknown_argument_hint(const CLI::App& app) {
     const bool is_option = argument.size() > 1 && argument[0] == '-';
     if (is_option) argument = argument.substr(0, argument.find('='));  // --name=value
     const std::vector<std::string> near =
-        closest_names(argument, is_option ? option_names(reached) : subcommand_names(reached));
+        io::closest_names(argument, is_option ? option_names(reached) : subcommand_names(reached));
     if (near.empty()) continue;
     hint += path_of(reached) + ": '" + argument + "' is not " +
             (is_option ? "an option" : "a subcommand") + "; did you mean " + quoted_list(near) +

@@ -1,10 +1,13 @@
 // read_measured_data: one pass over the lines, metadata until the header, then data rows.
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 
+#include "io/closest_names.hpp"
 #include "io/measured_data_csv.hpp"
 #include "io/measurement_cells.hpp"
+#include "io/measurement_columns.hpp"
 #include "io/measurement_rules.hpp"
 
 namespace tofcomp::io {
@@ -131,9 +134,30 @@ class MeasurementCsvReader {
       if (!kinds_.back()) unknown.append(unknown.empty() ? "" : ", ").append(name);
     }
     check_column_names(table_.columns, at);
+    refuse_mistyped_columns(at);
     if (!unknown.empty()) {
       table_.warnings.push_back(std::string(source_) + ":" + std::to_string(at.line) +
                                 ": unknown columns kept out of the analysis: " + unknown);
+    }
+  }
+
+  // An unknown column a typo away from a known one the header lacks is that column mistyped
+  // ("case_tmep_c"): read on, the data would fail later for want of it, or be read without it.
+  // Refused at the header, naming the known name. An unknown column far from every known name,
+  // or near one the header also has, is an extra column, kept out with a warning.
+  void refuse_mistyped_columns(const MeasurementPlace& at) const {
+    std::vector<std::string> absent;
+    for (const MeasurementColumn column : kMeasurementColumns) {
+      if (std::find(kinds_.begin(), kinds_.end(), column) == kinds_.end()) {
+        absent.emplace_back(column_name(column));
+      }
+    }
+    for (std::size_t i = 0; i < kinds_.size(); ++i) {
+      if (kinds_[i]) continue;
+      const std::vector<std::string> near = closest_names(table_.columns[i], absent);
+      if (!near.empty()) {
+        at.fail(table_.columns[i], "not a known column; did you mean '" + near.front() + "'?");
+      }
     }
   }
 

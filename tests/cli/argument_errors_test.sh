@@ -48,6 +48,9 @@ failed train "$work/field.csv" --calibration "$work/scenario.yaml" --beam 3 -o "
 failed train "$work/field.csv" "$work/field.csv" --basis polynomial:2 --modes 2 -o "$work/c.yaml" \
   "--basis, --modes: field training"
 failed train "$work/field.csv" --beam 1 -o "$work/c.yaml" "--beam: field training"
+# --threads and --jobs take 0, their default, "one per core", as their help says.
+refused train "$work/field.csv" --threads -1 -o "$work/c.yaml" "--threads: must be between 0 and 256, not -1"
+refused calibrate-dir "$work" --jobs 300 "--jobs: must be between 0 and 256, not 300"
 
 # A typo gets one message, the suggestion, not CLI11's own before it.
 alone() {

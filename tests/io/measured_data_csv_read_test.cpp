@@ -202,6 +202,16 @@ TEST(MeasuredDataCsvRead, AByteOrderMarkStartingTheFirstColumnNameIsRefused) {
   }
 }
 
+// An unknown column a typo away from a known one is refused only when the header lacks that one
+// (measured_data_csv_error_test): beside it, it is an extra column like any other.
+TEST(MeasuredDataCsvRead, AColumnNearAKnownOneTheHeaderHasIsAnExtraColumn) {
+  const MeasurementTable t = parse("time_s,range_mm,beam,beams\n0,3000,1,a\n");
+  ASSERT_EQ(t.warnings.size(), 1u);
+  EXPECT_EQ(t.warnings[0], "data.csv:1: unknown columns kept out of the analysis: beams");
+  ASSERT_EQ(t.rows.size(), 1u);
+  EXPECT_EQ(t.rows[0].beam, 1);
+}
+
 TEST(MeasuredDataCsvRead, UnknownColumnsOneWarningAndKeptOnRewrite) {
   const std::string text =
       "# sensor: LMS200\n"

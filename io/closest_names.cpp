@@ -1,9 +1,9 @@
-// Edit distance and the nearest names (cli/closest_names.hpp).
-#include "cli/closest_names.hpp"
+// Edit distance and the nearest names (io/closest_names.hpp).
+#include "io/closest_names.hpp"
 
 #include <algorithm>
 
-namespace tofcomp::cli {
+namespace tofcomp::io {
 
 namespace {
 
@@ -51,4 +51,4 @@ std::vector<std::string> closest_names(std::string_view typed,
   return closest;
 }
 
-}  // namespace tofcomp::cli
+}  // namespace tofcomp::io

@@ -1,10 +1,10 @@
-// "Did you mean" (cli/closest_names.hpp): the edit distance against distances worked by hand, and
+// "Did you mean" (io/closest_names.hpp): the edit distance against distances worked by hand, and
 // which names are offered for which typos.
-#include "cli/closest_names.hpp"
+#include "io/closest_names.hpp"
 
 #include <gtest/gtest.h>
 
-namespace tofcomp::cli {
+namespace tofcomp::io {
 namespace {
 
 TEST(EditDistance, CountsInsertionsDeletionsSubstitutionsAndSwaps) {
@@ -40,4 +40,4 @@ TEST(ClosestNames, OffersNothingForFarOrShortNamesOrAnExactOne) {
 }
 
 }  // namespace
-}  // namespace tofcomp::cli
+}  // namespace tofcomp::io

@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-namespace tofcomp::cli {
+namespace tofcomp::io {
 
 // The optimal string alignment distance: the fewest insertions, deletions, substitutions and
 // swaps of two neighbouring characters that turn a into b ("evalute" → "evaluate": 1).
@@ -18,4 +18,4 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 std::vector<std::string> closest_names(std::string_view typed,
                                        const std::vector<std::string>& candidates);
 
-}  // namespace tofcomp::cli
+}  // namespace tofcomp::io
