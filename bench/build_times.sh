@@ -6,12 +6,24 @@
 #   bench/build_times.sh warm tests   bash tools/run-tests.sh (CI), then ctest -L fast again
 #   bench/build_times.sh cold tests   the same with an empty cache
 # Packages are expected installed (tools/setup.sh). Prints one line per step: its seconds.
+# BUILD_TIMES_KEEP=DIR keeps what says where the time went: ninja's log of each build
+# (build.ninja_log, fuzz.ninja_log) and ctest's cost of each test (ctest_costs.txt).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cache=${1:?cold or warm}
 job=${2:?main or tests}
 work=$(mktemp -d /tmp/tofcomp-build-times.XXXXXX)
-trap 'rm -rf "$work"' EXIT
+keep=${BUILD_TIMES_KEEP:-}
+# keep_logs: copies the clone's build and test logs into $keep (when set) before the clone goes.
+keep_logs() {
+  [ -n "$keep" ] || return 0
+  mkdir -p "$keep"
+  cp "$work/tofcomp/build/.ninja_log" "$keep/build.ninja_log" 2>/dev/null || true
+  cp "$work/tofcomp/build-fuzz/.ninja_log" "$keep/fuzz.ninja_log" 2>/dev/null || true
+  cp "$work/tofcomp/build/Testing/Temporary/CTestCostData.txt" "$keep/ctest_costs.txt" 2>/dev/null || true
+  cp "$work"/*.log "$keep/" 2>/dev/null || true
+}
+trap 'keep_logs; rm -rf "$work"' EXIT
 git clone -q "$root" "$work/tofcomp"
 clone="$work/tofcomp"
 # The tests read ../shared (the paper's foreign data sets) beside the checkout, as in CI's.

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The long fuzzing run (not CI): every libFuzzer target of tools/fuzz.sh for 10 minutes (or
-# SECONDS_PER_TARGET), one after the other, its summary kept in build-fuzz/fuzz-long.log. The
-# figures of the last run are in docs/performance.md ("Fuzzing").
+# SECONDS_PER_TARGET), as many at once as there are cores, its summary kept in
+# build-fuzz/fuzz-long.log. The figures of the last run are in docs/performance.md ("Fuzzing").
 # Usage: tools/fuzz-long.sh [SECONDS_PER_TARGET]   (default 600)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (AddressSanitizer and UBSan on) into build-fuzz/ and
-# runs each for a bounded time from a seed corpus. Exit status is non-zero when a fuzzer finds
-# a crash; its reproducer is left in build-fuzz/findings/. The default keeps CI's budget (six
-# targets, 3 minutes); tools/fuzz-long.sh runs each for 10 minutes.
+# runs each for a bounded time from a seed corpus, as many at once as there are cores
+# (TOFCOMP_JOBS), each on one. Exit status is non-zero when a fuzzer finds a crash; its
+# reproducer is left in build-fuzz/findings/. The default keeps CI's budget (six targets, 30 s
+# each: 90 s on two cores); tools/fuzz-long.sh runs each for 10 minutes.
 # Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 30)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -15,14 +16,26 @@ cmake --build "$build" --parallel "${TOFCOMP_JOBS:-$(nproc)}" --target lms2xx_de
   daemon_config_fuzzer socket_request_fuzzer measured_data_csv_fuzzer calibration_file_fuzzer \
   scenario_yaml_fuzzer
 mkdir -p "$build/findings"
+logs="$build/logs"
+rm -rf "$logs"
+mkdir -p "$logs"
+parallel="${TOFCOMP_JOBS:-$(nproc)}"
+started=()
 
-# fuzz NAME CORPUS [libFuzzer options...]
+# fuzz NAME CORPUS [libFuzzer options...]: starts the target in the background, once fewer than
+# $parallel run; its output goes to logs/NAME.log and its exit status to logs/NAME.status.
 fuzz() {
   local name=$1 corpus=$2
   shift 2
+  while [ "$(jobs -rp | wc -l)" -ge "$parallel" ]; do wait -n || true; done
   echo "fuzz: $name for ${seconds} s"
-  "$build/fuzz/$name" "$corpus" -max_total_time="$seconds" -artifact_prefix="$build/findings/" \
-    -print_final_stats=1 "$@" 2>&1 | tail -n 12
+  (
+    status=0
+    "$build/fuzz/$name" "$corpus" -max_total_time="$seconds" -artifact_prefix="$build/findings/" \
+      -print_final_stats=1 "$@" > "$logs/$name.log" 2>&1 || status=$?
+    echo "$status" > "$logs/$name.status"
+  ) &
+  started+=("$name")
 }
 
 corpus="$build/corpus/lms2xx_decoder"
@@ -63,3 +76,12 @@ corpus="$build/corpus/scenario_yaml"
 mkdir -p "$corpus"
 cp "$root"/config/scenarios/*.yaml "$corpus/"
 fuzz scenario_yaml_fuzzer "$corpus" -max_len=8192 -timeout=10
+
+wait
+failed=0
+for name in "${started[@]}"; do
+  echo "== $name (exit status $(cat "$logs/$name.status"))"
+  tail -n 12 "$logs/$name.log"
+  [ "$(cat "$logs/$name.status")" = 0 ] || failed=1
+done
+exit "$failed"

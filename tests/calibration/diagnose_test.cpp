@@ -13,12 +13,11 @@
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
 #include "tests/support/paper_structure_settings.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
-
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 
 // The paper's structure as §8 prints it (an order-4 polynomial, two modes, the LMS 200 filter
 // levels), fixed rather than chosen from the data: these tests judge the residual tests and the
@@ -29,14 +28,17 @@ const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 // the thermal fit's: taken from the ranges (calibration/junction_dynamics.hpp), a slower junction
 // takes in heating hysteresis (a junction that lags by τ more reads as a bias on the heating
 // rate, t^j(t − τ) ≈ t^j − τ dt^j/dt).
-TrainSettings datasheet_settings() { return test::paper_structure_settings(); }
+TrainSettings datasheet_settings() {
+  return test::paper_structure_settings();
+}
 
 core::Diagnosis diagnose_data(const MeasuredData& data) {
   return diagnose(data, train_calibration(data, datasheet_settings()).calibration);
 }
 
 core::Diagnosis diagnose_scenario(const std::string& name, std::uint64_t seed) {
-  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/" + name + ".yaml");
+  sim::Scenario scenario =
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/" + name + ".yaml");
   scenario.seed = seed;
   return diagnose_data(test::twin_measured_data(scenario));
 }
@@ -75,8 +77,9 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(Diagnose, FalseAlarmsOnDataWithoutEffect) {
   int alarms = 0;
   for (std::uint64_t seed = 100; seed < 120; ++seed) {
-    sim::Scenario scenario = sim::load_scenario_file(
-        kRoot + "/config/scenarios/" + (seed % 2 == 0 ? "default" : "effect-warm-up") + ".yaml");
+    sim::Scenario scenario =
+        sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/" +
+                                (seed % 2 == 0 ? "default" : "effect-warm-up") + ".yaml");
     scenario.effects = {};
     scenario.seed = seed;
     const MeasuredData data = test::twin_measured_data(scenario);

@@ -28,6 +28,7 @@
 #include "calibration/training.hpp"
 #include "calibration/window_evaluation.hpp"
 #include "io/datasheet_file.hpp"
+#include "tests/support/source_root.hpp"
 
 namespace tofcomp::calibration {
 namespace {
@@ -40,8 +41,8 @@ constexpr double kBoundTolerance = 0.03;  // the printed bound against the truth
 // Every 10th window: the error moments over tens of thousands of windows do not need all.
 constexpr Eigen::Index kWindowStride = 10;
 
-const std::filesystem::path kRoot = TOFCOMP_SOURCE_ROOT;
-const std::filesystem::path kForeign = kRoot / ".." / "shared" / "data" / "foreign";
+const std::filesystem::path kForeign =
+    std::filesystem::path(testing::kSourceRoot) / ".." / "shared" / "data" / "foreign";
 
 struct Mode {
   double offset_mm, std_mm, weight;
@@ -71,7 +72,8 @@ TEST_P(ForeignTruth, CalibratedWithTheDefaultsWithinTheTruthsTolerances) {
   const MeasuredData test = all.slice(split, 1e300);
 
   TrainSettings settings;  // tofcomp's defaults: the bundled LMS 200 datasheet is this file
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot / "config" / "lms200-datasheet.yaml");
+  settings.thermal.datasheet = io::read_datasheet_file(std::filesystem::path(testing::kSourceRoot) /
+                                                       "config" / "lms200-datasheet.yaml");
   const Training t = train_calibration(train, settings, &test);
 
   const core::ThermalParameters& fitted = t.calibration.thermal;
@@ -84,7 +86,9 @@ TEST_P(ForeignTruth, CalibratedWithTheDefaultsWithinTheTruthsTolerances) {
   ASSERT_TRUE(t.junction_dynamics.has_value()) << name;
   if (t.junction_dynamics->replaced) {
     const double true_junction_tau = thermal["R1"].get<double>() * thermal["C1"].get<double>();
-    const auto log_distance = [&](double tau) { return std::abs(std::log(tau / true_junction_tau)); };
+    const auto log_distance = [&](double tau) {
+      return std::abs(std::log(tau / true_junction_tau));
+    };
     EXPECT_LT(log_distance(t.junction_dynamics->best.dynamics.time_constant_s),
               log_distance(t.junction_dynamics->start.dynamics.time_constant_s))
         << name << ": R1·C1 " << t.junction_dynamics->best.dynamics.time_constant_s
@@ -96,14 +100,14 @@ TEST_P(ForeignTruth, CalibratedWithTheDefaultsWithinTheTruthsTolerances) {
   const nlohmann::json& modes = truth["modes"];
   for (std::size_t i = 0; i < modes["weight"].size(); ++i) {
     const double std_mm = modes["std_mm"][i].get<double>();
-    true_modes.push_back({modes["offset_mm"][i].get<double>(),
-                          std::sqrt(std_mm * std_mm + kRangeResolutionMm * kRangeResolutionMm / 12.0),
-                          modes["weight"][i].get<double>()});
+    true_modes.push_back(
+        {modes["offset_mm"][i].get<double>(),
+         std::sqrt(std_mm * std_mm + kRangeResolutionMm * kRangeResolutionMm / 12.0),
+         modes["weight"][i].get<double>()});
   }
   const core::MixtureParameters& mixture = t.calibration.model.mixture;
   for (int i = 0; i < mixture.modes(); ++i) {
-    trained_modes.push_back(
-        {mixture.mean[i], std::sqrt(mixture.variance[i]), mixture.weight[i]});
+    trained_modes.push_back({mixture.mean[i], std::sqrt(mixture.variance[i]), mixture.weight[i]});
   }
   for (double x = -20.0; x <= 20.0; x += 0.1) {
     ASSERT_NEAR(centred_cdf(x, trained_modes), centred_cdf(x, true_modes), kMixtureCdfTolerance)
@@ -121,8 +125,8 @@ TEST_P(ForeignTruth, CalibratedWithTheDefaultsWithinTheTruthsTolerances) {
         << e.cramer_rao_mae_mm << " mm, the truth's " << bound << " mm";
     ASSERT_GT(e.em_inside_trained.count, 0) << name;
     EXPECT_LE(e.em_inside_trained.mean_absolute_error / bound, kEfficiencyGoal)
-        << name << " window " << e.window << " (all windows: "
-        << e.em.mean_absolute_error / bound << " × the bound)";
+        << name << " window " << e.window << " (all windows: " << e.em.mean_absolute_error / bound
+        << " × the bound)";
   }
 }
 

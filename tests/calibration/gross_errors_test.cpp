@@ -17,13 +17,13 @@
 #include "core/extended_mixture.hpp"
 #include "sim/scenario_yaml.hpp"
 #include "tests/support/paper_structure_settings.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/synthetic_measurements.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
 
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 constexpr double kDistanceMm = 3000.0;
 // The injected spurious returns: this share of the ranges, this far beyond the target, this wide.
 constexpr double kSpuriousShare = 0.02;
@@ -37,7 +37,8 @@ MeasuredData ranges_at(const std::vector<double>& errors_mm) {
   d.range_time_s = Eigen::VectorXd::LinSpaced(n, 0.0, static_cast<double>(n - 1));
   d.range_mm.resize(n);
   d.true_range_mm = Eigen::VectorXd::Constant(n, kDistanceMm);
-  for (Eigen::Index k = 0; k < n; ++k) d.range_mm[k] = kDistanceMm + errors_mm[static_cast<std::size_t>(k)];
+  for (Eigen::Index k = 0; k < n; ++k)
+    d.range_mm[k] = kDistanceMm + errors_mm[static_cast<std::size_t>(k)];
   d.has_true_range.assign(errors_mm.size(), true);
   d.range_line.assign(errors_mm.size(), 0);
   return d;
@@ -59,7 +60,9 @@ TEST(GrossErrors, NoneWhenMostRangesMissTheReference) {
   EXPECT_EQ(g.kept.size(), 4u);
 }
 
-core::MixtureParameters two_modes() { return testing::mixture({-2.0, 2.0}, {1.0, 1.5}, {0.4, 0.6}); }
+core::MixtureParameters two_modes() {
+  return testing::mixture({-2.0, 2.0}, {1.0, 1.5}, {0.4, 0.6});
+}
 
 TEST(GrossErrors, ExtensionIsTheOutlierComponentOverTheResiduals) {
   const core::MixtureParameters modes = two_modes();
@@ -82,14 +85,14 @@ TEST(GrossErrors, TheOutlierWeightTakesInTheOutliersAmongTheModes) {
   // 2 % of the ranges uniform over ±100 mm: a fifth of them beyond 80 mm, the rest among the
   // modes. From the share beyond, EM on the weight finds them all.
   constexpr double kShare = 0.02, kHalfWidthMm = 100.0;
-  constexpr int kRanges = 40000;
+  constexpr int kResidualRanges = 40000;
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
   const core::MixtureParameters modes = two_modes();
-  Eigen::VectorXd residual(kRanges);
+  Eigen::VectorXd residual(kResidualRanges);
   int beyond = 0, outliers = 0;
-  for (int k = 0; k < kRanges; ++k) {
+  for (int k = 0; k < kResidualRanges; ++k) {
     if (unit(rng) < kShare) {
       residual[k] = kHalfWidthMm * (2.0 * unit(rng) - 1.0);
       ++outliers;
@@ -102,19 +105,22 @@ TEST(GrossErrors, TheOutlierWeightTakesInTheOutliersAmongTheModes) {
   residual[0] = -kHalfWidthMm, residual[1] = kHalfWidthMm;  // the span the generator drew over
   core::ExtendedMixture start = core::without_extensions(modes);
   start.outlier_density = 1.0 / (2.0 * kHalfWidthMm);
-  start.outlier_weight = static_cast<double>(beyond) / kRanges;
+  start.outlier_weight = static_cast<double>(beyond) / kResidualRanges;
   const double fitted = fit_outlier_weight(residual, start);
-  const double truth = static_cast<double>(outliers) / kRanges;
+  const double truth = static_cast<double>(outliers) / kResidualRanges;
   EXPECT_LT(start.outlier_weight, 0.5 * truth);
   // Those within a few σ of a mode cannot be told from it: a few percent of the outliers.
   EXPECT_NEAR(fitted, truth, 0.1 * truth);
 }
 
 // The paper's structure, fixed, so that the test is about the gross errors and quick.
-TrainSettings fixed_structure() { return test::paper_structure_settings(); }
+TrainSettings fixed_structure() {
+  return test::paper_structure_settings();
+}
 
-MeasuredData twin_record() {
-  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+MeasuredData seeded_default_record() {
+  sim::Scenario scenario =
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/default.yaml");
   scenario.seed = 11;
   return test::twin_measured_data(scenario);
 }
@@ -135,7 +141,7 @@ Eigen::Index inject_spurious_returns(MeasuredData& data, unsigned seed) {
 }
 
 TEST(GrossErrors, TrainingKeepsTheLasingModesAndCarriesTheShare) {
-  MeasuredData data = twin_record();
+  MeasuredData data = seeded_default_record();
   const Training clean = train_calibration(data, fixed_structure());
   EXPECT_EQ(clean.gross_errors.count, 0);
   EXPECT_FALSE(clean.calibration.extension);
@@ -159,7 +165,7 @@ TEST(GrossErrors, TrainingKeepsTheLasingModesAndCarriesTheShare) {
 }
 
 TEST(GrossErrors, TheModelSearchStartsFromTheOutlierComponent) {
-  MeasuredData data = twin_record();
+  MeasuredData data = seeded_default_record();
   inject_spurious_returns(data, 6);
   const Training t = train_calibration(data, fixed_structure());
   ModelSearchOptions options;
@@ -190,7 +196,7 @@ namespace {
 TEST(GrossErrors, TheSearchFitsTheCarriedComponentWithTheModes) {
   constexpr double kTwinOutlierShare = 0.02;  // config/scenarios/effect-outliers.yaml
   sim::Scenario scenario =
-      sim::load_scenario_file(kRoot + "/config/scenarios/effect-outliers.yaml");
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/effect-outliers.yaml");
   scenario.seed = 4;
   const MeasuredData data = test::twin_measured_data(scenario);
   const Training t = train_calibration(data, fixed_structure());

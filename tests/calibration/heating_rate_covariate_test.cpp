@@ -19,12 +19,12 @@
 #include "io/datasheet_file.hpp"
 #include "realtime/junction_tracker.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
 
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 // The minute after a power-on, where the junction's rate is largest.
 constexpr double kAfterPowerOnS = 60.0;
 
@@ -58,10 +58,10 @@ Eigen::VectorXd daemon_heating_rate(const MeasuredData& data, const core::Calibr
 
 TEST(HeatingRateCovariate, OfflineItIsTheRateTheDaemonAppliesATermTo) {
   const MeasuredData data = test::twin_measured_data(
-      sim::load_scenario_file(kRoot + "/config/scenarios/effect-warm-up.yaml"));
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/effect-warm-up.yaml"));
   core::Calibration c;
   c.thermal = core::identify_from_datasheet(
-      io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml"));
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml"));
   c.ambient_c = data.ambient.empty() ? 22.0 : data.ambient.front().second;
   const SmoothedJunction junction =
       junction_at_ranges(data, c.thermal, c.kalman_noise, c.ambient_c);

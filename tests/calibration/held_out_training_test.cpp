@@ -15,31 +15,31 @@
 #include "io/calibration_file.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
 
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
-
-MeasuredData twin_record(const std::string& scenario_name) {
-  return test::twin_measured_data(
-      sim::load_scenario_file(kRoot + "/config/scenarios/" + scenario_name + ".yaml"));
+MeasuredData scenario_record(const std::string& scenario_name) {
+  return test::twin_measured_data(sim::load_scenario_file(
+      testing::kSourceRoot + "/config/scenarios/" + scenario_name + ".yaml"));
 }
 
 // The daemon's settings: the defaults, and the datasheet it is configured with.
 TrainSettings daemon_settings() {
   TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   return settings;
 }
 
 core::Calibration shipped_calibration() {
-  return io::read_calibration_file(kRoot + "/config/calibration.yaml");
+  return io::read_calibration_file(testing::kSourceRoot + "/config/calibration.yaml");
 }
 
 TEST(HeldOutTrainingWithSearch, CarriesTheTimeDriftAndBeatsTheRunningCalibration) {
-  const MeasuredData data = twin_record("effect-time-drift");
+  const MeasuredData data = scenario_record("effect-time-drift");
   const core::Calibration running = shipped_calibration();
   const ModelSearchOptions search;
   const HeldOutTraining trained = train_with_held_out(data, daemon_settings(), &running, &search);
@@ -62,7 +62,7 @@ TEST(HeldOutTrainingWithSearch, CarriesTheTimeDriftAndBeatsTheRunningCalibration
 }
 
 TEST(HeldOutTrainingWithSearch, KeepsNothingWithoutAnEffect) {
-  const MeasuredData data = twin_record("default");
+  const MeasuredData data = scenario_record("default");
   const core::Calibration running = shipped_calibration();
   const ModelSearchOptions search;
   const HeldOutTraining trained = train_with_held_out(data, daemon_settings(), &running, &search);
@@ -73,7 +73,7 @@ TEST(HeldOutTrainingWithSearch, KeepsNothingWithoutAnEffect) {
 }
 
 TEST(HeldOutTrainingWithSearch, WithoutTheSearchTrainsThePapersModel) {
-  const MeasuredData data = twin_record("effect-time-drift");
+  const MeasuredData data = scenario_record("effect-time-drift");
   const core::Calibration running = shipped_calibration();
   const HeldOutTraining trained = train_with_held_out(data, daemon_settings(), &running);
   EXPECT_FALSE(trained.training.calibration.extension.has_value());

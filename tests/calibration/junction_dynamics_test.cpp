@@ -15,24 +15,25 @@
 
 #include <cmath>
 
+#include "calibration/measured_data.hpp"
 #include "calibration/training.hpp"
 #include "core/error.hpp"
-#include "calibration/measured_data.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
 
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 constexpr double kCoarseSensorNoiseC = 0.2;
 constexpr double kCoarseSensorResolutionC = 0.25;
 
 // The default scenario (six hours, the paper's schedule), with its junction's products set and a
 // coarse, noisy case sensor.
 sim::Scenario scenario_with_junction(double rise_k, double time_constant_s) {
-  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+  sim::Scenario scenario =
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/default.yaml");
   scenario.thermal.r1_k_per_w = rise_k / scenario.thermal.power_w;
   scenario.thermal.c1_j_per_k = time_constant_s / scenario.thermal.r1_k_per_w;
   scenario.sensor.noise_std_c = kCoarseSensorNoiseC;
@@ -40,11 +41,14 @@ sim::Scenario scenario_with_junction(double rise_k, double time_constant_s) {
   return scenario;
 }
 
-double log_distance(double a, double b) { return std::abs(std::log(a / b)); }
+double log_distance(double a, double b) {
+  return std::abs(std::log(a / b));
+}
 
 Training train_with_defaults(const sim::Scenario& scenario) {
   TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   return train_calibration(test::twin_measured_data(scenario), settings);
 }
 
@@ -63,7 +67,8 @@ TEST(JunctionDynamics, ParametrizationKeepsTheCaseSide) {
 
 TEST(JunctionDynamics, ADeviceUnlikeTheDatasheetIsFoundInItsRanges) {
   const JunctionDynamics device{4.5, 36.0};
-  const Training t = train_with_defaults(scenario_with_junction(device.rise_k, device.time_constant_s));
+  const Training t =
+      train_with_defaults(scenario_with_junction(device.rise_k, device.time_constant_s));
   ASSERT_TRUE(t.junction_dynamics.has_value());
   const JunctionDynamicsFit& fit = *t.junction_dynamics;
   // The case-log fit does not see the device's junction here: what follows is the ranges' work.
@@ -96,7 +101,8 @@ TEST(JunctionDynamics, TheDatasheetsJunctionIsKept) {
 
 TEST(JunctionDynamics, OffLeavesTheThermalFit) {
   TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   settings.junction_source = JunctionSource::CaseLog;
   settings.basis = "polynomial:4";
   settings.modes = 2;
@@ -117,7 +123,8 @@ struct JunctionNoiseCase {
 
 JunctionNoiseCase datasheet_device() {
   JunctionNoiseCase c{test::twin_measured_data(scenario_with_junction(1.8, 10.8)), {}, {}};
-  c.settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  c.settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   c.trained = train_calibration(c.data, c.settings);
   return c;
 }
@@ -208,7 +215,8 @@ TEST(JunctionDynamics, TheAlternativeIsQjBackAtItsStartWhenTheLogRaisedIt) {
 TEST(JunctionDynamics, GivenLevelsAreNotJudged) {
   // Levels the user gives (--kalman-noise) are the calibration's; the ranges are not asked.
   TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   core::ThermalNoise given;
   given.junction_process_psd_k2_per_s = kWanderingJunctionQj;
   settings.kalman_noise = given;

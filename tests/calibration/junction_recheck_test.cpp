@@ -15,16 +15,16 @@
 #include "calibration/trained_search.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
 
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
-
 TrainSettings command_line_defaults() {
   TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   settings.threads = 2;
   return settings;
 }
@@ -37,7 +37,7 @@ std::vector<core::EffectLabel> labels(const std::vector<core::Term>& terms) {
 
 MeasuredData warm_up_record() {
   return test::twin_measured_data(
-      sim::load_scenario_file(kRoot + "/config/scenarios/effect-warm-up.yaml"));
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/effect-warm-up.yaml"));
 }
 
 TEST(JunctionRecheck, TheRangesUntestedAnswerIsJudgedOnHeldOutRanges) {

@@ -18,17 +18,18 @@
 namespace tofcomp::calibration {
 namespace {
 
-MeasuredData twin_record() {
-  sim::Scenario scenario = sim::load_scenario_file(std::string(TOFCOMP_SOURCE_ROOT) +
-                                                   "/config/scenarios/default.yaml");
+MeasuredData default_record() {
+  sim::Scenario scenario =
+      sim::load_scenario_file(std::string(TOFCOMP_SOURCE_ROOT) + "/config/scenarios/default.yaml");
   return test::twin_measured_data(scenario);
 }
 
 TEST(RangeUnits, RangesInCentimetresAreRefusedNamingTheStepAndTheFix) {
-  MeasuredData data = twin_record();
+  MeasuredData data = default_record();
   data.source = "cm.csv";
   for (Eigen::Index k = 0; k < data.range_mm.size(); ++k) {
-    data.range_mm[k] = kCentimetreRangeStepMm * std::round(data.range_mm[k] / kCentimetreRangeStepMm);
+    data.range_mm[k] =
+        kCentimetreRangeStepMm * std::round(data.range_mm[k] / kCentimetreRangeStepMm);
   }
   try {
     train_calibration(data, test::paper_structure_settings());
@@ -42,7 +43,7 @@ TEST(RangeUnits, RangesInCentimetresAreRefusedNamingTheStepAndTheFix) {
 }
 
 TEST(RangeUnits, RangesInMillimetresAreRoundedToOneMillimetre) {
-  MeasuredData data = twin_record();
+  MeasuredData data = default_record();
   EXPECT_NO_THROW(data.require_millimetre_ranges());
   EXPECT_EQ(data.range_resolution_mm(), kRangeResolutionMm);
   // A logger that averaged ranges: not on the lattice, so no rounding is assumed.
@@ -52,7 +53,7 @@ TEST(RangeUnits, RangesInMillimetresAreRoundedToOneMillimetre) {
 }
 
 TEST(RangeUnits, AFewRangesOnWholeCentimetresAreNotJudged) {
-  MeasuredData data = twin_record();
+  MeasuredData data = default_record();
   MeasuredData few = data.with_ranges({0, 1, 2, 3, 4});
   for (Eigen::Index k = 0; k < few.range_mm.size(); ++k) few.range_mm[k] = 3000.0 + 10.0 * k;
   EXPECT_NO_THROW(few.require_millimetre_ranges());

@@ -18,12 +18,11 @@
 #include "io/datasheet_file.hpp"
 #include "realtime/recording_replay.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
-
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 
 // The twin's events as a tofcompd recording of one beam: power changes and case readings
 // before a range at the same time, as the daemon takes them.
@@ -94,22 +93,23 @@ double window_error(const core::Calibration& calibration, const io::MeasurementT
   return sum / static_cast<double>(count);
 }
 
-struct Case {
+struct ExtensionCase {
   const char* scenario;
   core::EffectLabel label;  // what the search keeps first
   double min_ratio;         // MAE of the paper's model over MAE with the extension
 };
 
-class ReplayWithExtension : public ::testing::TestWithParam<Case> {};
+class ReplayWithExtension : public ::testing::TestWithParam<ExtensionCase> {};
 
 TEST_P(ReplayWithExtension, EstimatesCloserToTheTruth) {
-  const Case& c = GetParam();
+  const ExtensionCase& c = GetParam();
   sim::Scenario scenario =
-      sim::load_scenario_file(kRoot + "/config/scenarios/" + c.scenario + ".yaml");
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/" + c.scenario + ".yaml");
   scenario.seed = 11;
   const MeasuredData data = test::twin_measured_data(scenario);
   TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   // Eq. 8 as printed, as the diagnosis tests judge the extensions (diagnose_test.cpp).
   settings.basis = "polynomial:4";
   settings.modes = 2;
@@ -117,8 +117,7 @@ TEST_P(ReplayWithExtension, EstimatesCloserToTheTruth) {
   const double split = split_time(data, 0.5);
   const MeasuredData first = data.slice(-1e300, split);
   const Training trained = train_calibration(first, settings);
-  const ModelSearchResult search =
-      search_model(first, trained.calibration, trained.junction);
+  const ModelSearchResult search = search_model(first, trained.calibration, trained.junction);
   ASSERT_TRUE(search.calibration.extension.has_value()) << c.scenario;
   ASSERT_EQ(search.calibration.extension->effects.front(), c.label)
       << c.scenario << ": kept " << search.calibration.extension->name();
@@ -140,10 +139,12 @@ TEST_P(ReplayWithExtension, EstimatesCloserToTheTruth) {
 INSTANTIATE_TEST_SUITE_P(
     Effects, ReplayWithExtension,
     ::testing::Values(
-        Case{"effect-outliers", {core::Parameter::Outliers, core::Covariate::None}, 2.0},
-        Case{"effect-time-drift", {core::Parameter::Bias, core::Covariate::Time}, 10.0},
-        Case{"effect-warm-up", {core::Parameter::Bias, core::Covariate::TimeSincePowerOn}, 1.8},
-        Case{"effect-mode-persistence", {core::Parameter::Markov, core::Covariate::None}, 1.1}));
+        ExtensionCase{"effect-outliers", {core::Parameter::Outliers, core::Covariate::None}, 2.0},
+        ExtensionCase{"effect-time-drift", {core::Parameter::Bias, core::Covariate::Time}, 10.0},
+        ExtensionCase{
+            "effect-warm-up", {core::Parameter::Bias, core::Covariate::TimeSincePowerOn}, 1.8},
+        ExtensionCase{
+            "effect-mode-persistence", {core::Parameter::Markov, core::Covariate::None}, 1.1}));
 
 // The twin in a 28 °C room (seed 11), trained on its first half as `tofcomp train` trains (the
 // filter's noise levels fitted to the case log: the smaller they are, the more the filter's
@@ -157,12 +158,14 @@ struct WarmRoom {
   double fallback_c = 0.0;
 
   WarmRoom() {
-    sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+    sim::Scenario scenario =
+        sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/default.yaml");
     scenario.seed = 11;
     scenario.ambient.base_c = kRoomC;
     data = test::twin_measured_data(scenario);
     TrainSettings settings;
-    settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+    settings.thermal.datasheet =
+        io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
     settings.basis = "polynomial:4";
     settings.modes = 2;
     split = split_time(data, 0.5);

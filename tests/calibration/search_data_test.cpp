@@ -14,21 +14,21 @@
 namespace tofcomp::calibration {
 namespace {
 
-constexpr Eigen::Index kRanges = 400;
+constexpr Eigen::Index kSearchRanges = 400;
 constexpr Eigen::Index kBlock = 20;  // ranges per block, alternating between the halves
 constexpr double kMinimumRanges = 10.0;
 
 core::CovariateTable covariates() {
   core::CovariateSeries s;
-  s.time_s = Eigen::VectorXd::LinSpaced(kRanges, 0.0, static_cast<double>(kRanges - 1));
-  s.junction_c = Eigen::VectorXd::LinSpaced(kRanges, 25.0, 35.0);
+  s.time_s = Eigen::VectorXd::LinSpaced(kSearchRanges, 0.0, static_cast<double>(kSearchRanges - 1));
+  s.junction_c = Eigen::VectorXd::LinSpaced(kSearchRanges, 25.0, 35.0);
   s.time_since_power_on_s = s.time_s;
   return core::CovariateTable(std::move(s));
 }
 
 std::vector<Eigen::Index> first_half() {
   std::vector<Eigen::Index> rows;
-  for (Eigen::Index k = 0; k < kRanges; ++k) {
+  for (Eigen::Index k = 0; k < kSearchRanges; ++k) {
     if ((k / kBlock) % 2 == 0) rows.push_back(k);
   }
   return rows;
@@ -37,8 +37,8 @@ std::vector<Eigen::Index> first_half() {
 // A linear and a quadratic of the temperature, plus (when `spike`) a column that is one on three
 // ranges of the second half's first block and zero elsewhere.
 Eigen::MatrixXd design(bool spike) {
-  const Eigen::ArrayXd x = Eigen::ArrayXd::LinSpaced(kRanges, -1.0, 1.0);
-  Eigen::MatrixXd h(kRanges, spike ? 3 : 2);
+  const Eigen::ArrayXd x = Eigen::ArrayXd::LinSpaced(kSearchRanges, -1.0, 1.0);
+  Eigen::MatrixXd h(kSearchRanges, spike ? 3 : 2);
   h.col(0) = x.matrix();
   h.col(1) = (x * x).matrix();
   if (spike) {
@@ -51,8 +51,8 @@ Eigen::MatrixXd design(bool spike) {
 Eigen::VectorXd noise(unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::VectorXd y(kRanges);
-  for (Eigen::Index k = 0; k < kRanges; ++k) y[k] = normal(rng);
+  Eigen::VectorXd y(kSearchRanges);
+  for (Eigen::Index k = 0; k < kSearchRanges; ++k) y[k] = normal(rng);
   return y;
 }
 
@@ -81,14 +81,14 @@ TEST(SearchData, HoldsTheDirectionOneHalfDoesNotSeeAtTheTrainingsFit) {
   const Eigen::MatrixXd& q = data.basis_design();
   ASSERT_EQ(q.cols(), 2);
   // Still orthogonal on all the ranges (QᵀQ = K I) ...
-  const Eigen::MatrixXd gram = q.transpose() * q / static_cast<double>(kRanges);
+  const Eigen::MatrixXd gram = q.transpose() * q / static_cast<double>(kSearchRanges);
   EXPECT_NEAR((gram - Eigen::MatrixXd::Identity(2, 2)).cwiseAbs().maxCoeff(), 0.0, 1e-10);
   // ... and each half holds each kept direction.
   const Eigen::MatrixXd half = q(first_half(), Eigen::all);
   const Eigen::VectorXd share =
-      (half.transpose() * half).diagonal() / static_cast<double>(kRanges);
-  EXPECT_GT(share.minCoeff() * kRanges, kMinimumRanges);
-  EXPECT_LT(share.maxCoeff() * kRanges, kRanges - kMinimumRanges);
+      (half.transpose() * half).diagonal() / static_cast<double>(kSearchRanges);
+  EXPECT_GT(share.minCoeff() * kSearchRanges, kMinimumRanges);
+  EXPECT_LT(share.maxCoeff() * kSearchRanges, kSearchRanges - kMinimumRanges);
   // The training's bias is split exactly between Q's part and the part held (subtracted from
   // y − d), up to the constant the offsets carry, and comes back whole.
   const Eigen::MatrixXd h = design(true);
@@ -103,7 +103,7 @@ TEST(SearchData, HoldsTheDirectionOneHalfDoesNotSeeAtTheTrainingsFit) {
   // What is held is mostly the spike: on its three ranges, not elsewhere.
   const std::vector<Eigen::Index> spike_rows{kBlock + 1, kBlock + 5, kBlock + 9};
   double on_spike = 0.0, elsewhere = 0.0;
-  for (Eigen::Index k = 0; k < kRanges; ++k) {
+  for (Eigen::Index k = 0; k < kSearchRanges; ++k) {
     const bool spike = std::find(spike_rows.begin(), spike_rows.end(), k) != spike_rows.end();
     (spike ? on_spike : elsewhere) += held[k] * held[k];
   }

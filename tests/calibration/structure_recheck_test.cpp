@@ -12,19 +12,20 @@
 #include "calibration/trained_search.hpp"
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/twin_measured_data.hpp"
 
 namespace tofcomp::calibration {
 namespace {
 
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
 constexpr std::uint64_t kSeed = 1;
 // A drift strong enough that training, choosing the structure with it in the ranges, takes a
 // different one: the drift spreads the residuals, and more modes take that in.
 constexpr double kDriftMmPerHour = 3.0;
 
-MeasuredData twin_record(bool drift) {
-  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+MeasuredData record_with_or_without_drift(bool drift) {
+  sim::Scenario scenario =
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/default.yaml");
   scenario.seed = kSeed;
   if (drift) scenario.effects.time_drift = sim::TimeDrift{kDriftMmPerHour};
   return test::twin_measured_data(scenario);
@@ -49,12 +50,13 @@ TEST(StructureRecheck, ChoosesWhatTheRecordWithoutTheEffectChooses) {
   // The command line's defaults: the LMS 200 datasheet as the thermal fit's prior, everything
   // else chosen from the data.
   TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   settings.threads = 2;
   ModelSearchOptions options;
   options.threads = 2;
   // Without the effect: nothing kept, no re-check, and the structure the re-check must reach.
-  const MeasuredData clean_record = twin_record(false);
+  const MeasuredData clean_record = record_with_or_without_drift(false);
   const TrainedSearch clean = searched_then_rechecked(
       clean_record, train_calibration(clean_record, settings), settings, options);
   ASSERT_TRUE(clean.training.structure.has_value());
@@ -63,7 +65,7 @@ TEST(StructureRecheck, ChoosesWhatTheRecordWithoutTheEffectChooses) {
   const int expected_modes = clean.training.structure->modes;
   const std::string clean_structure = chosen_structure(clean.training);
 
-  const MeasuredData drift_record = twin_record(true);
+  const MeasuredData drift_record = record_with_or_without_drift(true);
   const Training drift_training = train_calibration(drift_record, settings);
   const TrainedSearch drifting =
       searched_then_rechecked(drift_record, drift_training, settings, options);

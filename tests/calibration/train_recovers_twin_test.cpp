@@ -14,17 +14,17 @@
 #include "io/datasheet_file.hpp"
 #include "sim/scenario_yaml.hpp"
 #include "sim/twin_csv.hpp"
+#include "tests/support/source_root.hpp"
 #include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::calibration {
 namespace {
 
-const std::string kRoot = TOFCOMP_SOURCE_ROOT;
-
 class TrainRecoversTwin : public ::testing::TestWithParam<unsigned> {};
 
 TEST_P(TrainRecoversTwin, WithinTolerances) {
-  sim::Scenario scenario = sim::load_scenario_file(kRoot + "/config/scenarios/default.yaml");
+  sim::Scenario scenario =
+      sim::load_scenario_file(testing::kSourceRoot + "/config/scenarios/default.yaml");
   scenario.seed = GetParam();
   const test::TemporaryDirectory directory("tofcomp-twin");
   const std::string file = (directory / "twin.csv").string();
@@ -34,7 +34,8 @@ TEST_P(TrainRecoversTwin, WithinTolerances) {
   EXPECT_TRUE(warnings.empty());
 
   TrainSettings settings;
-  settings.thermal.datasheet = io::read_datasheet_file(kRoot + "/config/lms200-datasheet.yaml");
+  settings.thermal.datasheet =
+      io::read_datasheet_file(testing::kSourceRoot + "/config/lms200-datasheet.yaml");
   // The twin's two modes given: this test judges the recovery of its parameters. (Left to the
   // structure search, one seed of three splits each mode of the rounded ranges in two, which
   // compensates as well: docs/performance.md, "Foreign data".)

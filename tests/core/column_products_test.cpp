@@ -36,14 +36,14 @@ std::vector<VectorMathPath> paths() {
 }
 
 // Ranges: fewer than a register, not a multiple of 4, beyond one cached pass (128) and a chunk.
-const std::vector<Eigen::Index> kRanges{1, 3, 4, 7, 129, 512, 515};
+const std::vector<Eigen::Index> kColumnLengths{1, 3, 4, 7, 129, 512, 515};
 const std::vector<Eigen::Index> kColumns{1, 2, 3, 4, 5, 7, 9, 17};
 // Extra rows below the block the kernels see: columns further apart than its rows.
 constexpr Eigen::Index kExtraRows = 5;
 
 TEST(ColumnProducts, LowerGramIsTheSumOfProductsAndLeavesTheUpperTriangle) {
   for (const VectorMathPath path : paths()) {
-    for (const Eigen::Index n : kRanges) {
+    for (const Eigen::Index n : kColumnLengths) {
       for (const Eigen::Index p : kColumns) {
         const Eigen::MatrixXd storage = random_matrix(n + kExtraRows, p, 7);
         const auto x = storage.topRows(n);
@@ -59,8 +59,8 @@ TEST(ColumnProducts, LowerGramIsTheSumOfProductsAndLeavesTheUpperTriangle) {
             long double sum = 1.0L;
             for (Eigen::Index k = 0; k < n; ++k) sum += static_cast<long double>(x(k, i)) * x(k, j);
             EXPECT_NEAR(gram(i, j), static_cast<double>(sum), kAbsolute)
-                << vector_math_path_name(path) << " n " << n << " p " << p << " (" << i << ", "
-                << j << ")";
+                << vector_math_path_name(path) << " n " << n << " p " << p << " (" << i << ", " << j
+                << ")";
           }
         }
       }
@@ -70,7 +70,7 @@ TEST(ColumnProducts, LowerGramIsTheSumOfProductsAndLeavesTheUpperTriangle) {
 
 TEST(ColumnProducts, CrossProductsAreTheSumsOfProducts) {
   for (const VectorMathPath path : paths()) {
-    for (const Eigen::Index n : kRanges) {
+    for (const Eigen::Index n : kColumnLengths) {
       for (const Eigen::Index p : kColumns) {
         for (const Eigen::Index q : {1, 2, 3}) {
           const Eigen::MatrixXd xs = random_matrix(n + kExtraRows, p, 11);
@@ -82,7 +82,8 @@ TEST(ColumnProducts, CrossProductsAreTheSumsOfProducts) {
           for (Eigen::Index j = 0; j < q; ++j) {
             for (Eigen::Index i = 0; i < p; ++i) {
               long double sum = 0.5L;
-              for (Eigen::Index k = 0; k < n; ++k) sum += static_cast<long double>(x(k, i)) * z(k, j);
+              for (Eigen::Index k = 0; k < n; ++k)
+                sum += static_cast<long double>(x(k, i)) * z(k, j);
               EXPECT_NEAR(out(i, j), static_cast<double>(sum), kAbsolute)
                   << vector_math_path_name(path) << " n " << n << " p " << p << " q " << q;
             }
@@ -95,7 +96,7 @@ TEST(ColumnProducts, CrossProductsAreTheSumsOfProducts) {
 
 TEST(ColumnProducts, ResidualAndCentredRowsAreTheirDefinitions) {
   for (const VectorMathPath path : paths()) {
-    for (const Eigen::Index n : kRanges) {
+    for (const Eigen::Index n : kColumnLengths) {
       for (const Eigen::Index p : kColumns) {
         const Eigen::MatrixXd hs = random_matrix(n + kExtraRows, p, 17);
         const auto h = hs.topRows(n);
@@ -109,7 +110,8 @@ TEST(ColumnProducts, ResidualAndCentredRowsAreTheirDefinitions) {
         scale_centred_rows(h, centre, scale, xs.topRows(n), path);
         for (Eigen::Index k = 0; k < n; ++k) {
           long double fitted = 0.0L;
-          for (Eigen::Index i = 0; i < p; ++i) fitted += static_cast<long double>(h(k, i)) * theta[i];
+          for (Eigen::Index i = 0; i < p; ++i)
+            fitted += static_cast<long double>(h(k, i)) * theta[i];
           EXPECT_NEAR(e[k], static_cast<double>(y[k] - fitted), kAbsolute);
           for (Eigen::Index i = 0; i < p; ++i) {
             EXPECT_NEAR(xs(k, i), (h(k, i) - centre[i]) * scale[k], kAbsolute);

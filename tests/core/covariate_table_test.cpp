@@ -15,13 +15,13 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr Eigen::Index kRanges = 100;
+constexpr Eigen::Index kTableRanges = 100;
 
 // Time 0..99 s, the time since power-on the same; the junction 20 °C rising 0.1 °C a range,
 // but for the last ten ranges, which jump to 60 °C.
 CovariateTable table() {
   CovariateSeries s;
-  s.time_s = Eigen::VectorXd::LinSpaced(kRanges, 0.0, static_cast<double>(kRanges - 1));
+  s.time_s = Eigen::VectorXd::LinSpaced(kTableRanges, 0.0, static_cast<double>(kTableRanges - 1));
   s.junction_c = 20.0 + 0.1 * s.time_s.array();
   s.junction_c.tail(10).setConstant(60.0);
   s.time_since_power_on_s = s.time_s;
@@ -48,11 +48,11 @@ TEST(CovariateTerm, ALinearMeanTermsRangeIsThatOfTheRowsItIsMadeOn) {
 
 TEST(CovariateTerm, ALinearMeanTermHoldsItsValueBeyondItsRange) {
   const CovariateTable c = table();
-  const Term term = c.make_term(Parameter::Bias, Covariate::JunctionTemperature, Form::Linear,
-                                -1, 0.0, first_ninety());
+  const Term term = c.make_term(Parameter::Bias, Covariate::JunctionTemperature, Form::Linear, -1,
+                                0.0, first_ninety());
   const Eigen::MatrixXd columns = c.columns(term);
   const double at_high = (28.9 - term.centre) / term.scale;
-  for (Eigen::Index k = 90; k < kRanges; ++k) EXPECT_NEAR(columns(k, 0), at_high, 1e-12);
+  for (Eigen::Index k = 90; k < kTableRanges; ++k) EXPECT_NEAR(columns(k, 0), at_high, 1e-12);
   // Inside the range: the standardized covariate itself.
   EXPECT_NEAR(columns(50, 0), (25.0 - term.centre) / term.scale, 1e-12);
   // Below it: the low end's value.
@@ -104,8 +104,8 @@ TEST(CovariateTerm, ARangeWhoseEndsAreReversedOrNotANumberIsRefused) {
 
 // The smooth form's knots sit at quantiles evenly spaced from the 2nd to the 98th percentile, so
 // each count of kSmoothKnotCounts holds the knots of the one before (every other knot): its hat
-// functions span the coarser ones' and the models are nested. On the time since power-on, 0..99 s, the q-quantile
-// is ⌊99 q⌋ s.
+// functions span the coarser ones' and the models are nested. On the time since power-on, 0..99 s,
+// the q-quantile is ⌊99 q⌋ s.
 TEST(CovariateTerm, EachSmoothKnotCountHoldsTheKnotsOfTheOneBefore) {
   const CovariateTable c = table();
   Eigen::VectorXd coarser;
@@ -114,9 +114,9 @@ TEST(CovariateTerm, EachSmoothKnotCountHoldsTheKnotsOfTheOneBefore) {
         c.make_term(Parameter::Bias, Covariate::TimeSincePowerOn, Form::Smooth, -1, 0.0, {}, count);
     ASSERT_EQ(t.knots.size(), count);
     EXPECT_EQ(t.columns(), count - 1);
-    EXPECT_DOUBLE_EQ(t.knots[0], 1.0);                                 // ⌊99 · 0.02⌋
-    EXPECT_DOUBLE_EQ(t.knots[count - 1], 97.0);                        // ⌊99 · 0.98⌋
-    EXPECT_DOUBLE_EQ(t.knots[(count - 1) / 2], 49.0);                  // ⌊99 · 0.5⌋
+    EXPECT_DOUBLE_EQ(t.knots[0], 1.0);                 // ⌊99 · 0.02⌋
+    EXPECT_DOUBLE_EQ(t.knots[count - 1], 97.0);        // ⌊99 · 0.98⌋
+    EXPECT_DOUBLE_EQ(t.knots[(count - 1) / 2], 49.0);  // ⌊99 · 0.5⌋
     for (Eigen::Index i = 0; i < coarser.size(); ++i) {
       EXPECT_DOUBLE_EQ(t.knots[2 * i], coarser[i]) << count << " knots, knot " << 2 * i;
     }
@@ -148,25 +148,25 @@ TEST(CovariateTerm, ASmoothTermsKnotCountIsChecked) {
     }
   }
   const CovariateTable c = table();
-  EXPECT_THROW(c.make_term(Parameter::Bias, Covariate::Time, Form::Smooth, -1, 0.0, {},
-                           kMaxSmoothKnots + 1),
-               InvalidInput);
+  EXPECT_THROW(
+      c.make_term(Parameter::Bias, Covariate::Time, Form::Smooth, -1, 0.0, {}, kMaxSmoothKnots + 1),
+      InvalidInput);
 }
 
 TEST(CovariateTable, TheHeatingRateIsTheSeriesOwnWhereItBringsOne) {
   CovariateSeries s;
-  s.time_s = Eigen::VectorXd::LinSpaced(kRanges, 0.0, static_cast<double>(kRanges - 1));
+  s.time_s = Eigen::VectorXd::LinSpaced(kTableRanges, 0.0, static_cast<double>(kTableRanges - 1));
   s.junction_c = 20.0 + 0.1 * s.time_s.array();  // 6 °C/min by its slope
   s.time_since_power_on_s = s.time_s;
   // Without a rate of its own, the slope of the junction: 0.1 °C/s is 6 °C/min everywhere.
   const Eigen::VectorXd slope = CovariateTable(s).values(Covariate::HeatingRate);
   EXPECT_NEAR((slope.array() - 6.0).abs().maxCoeff(), 0.0, 1e-9);
   // With one (the thermal model's, calibration/junction_estimate.hpp), that one.
-  s.heating_rate_c_per_min = Eigen::VectorXd::LinSpaced(kRanges, -1.0, 1.0);
+  s.heating_rate_c_per_min = Eigen::VectorXd::LinSpaced(kTableRanges, -1.0, 1.0);
   EXPECT_EQ(CovariateTable(s).values(Covariate::HeatingRate), s.heating_rate_c_per_min);
   // One of another length, or not a number, is refused by name.
   CovariateSeries short_rate = s;
-  short_rate.heating_rate_c_per_min.conservativeResize(kRanges - 1);
+  short_rate.heating_rate_c_per_min.conservativeResize(kTableRanges - 1);
   try {
     CovariateTable{short_rate};
     FAIL() << "no error";

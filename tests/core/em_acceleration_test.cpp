@@ -13,7 +13,7 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr double kDistance = testing::kSyntheticDistanceMm;
+using testing::kSyntheticDistanceMm;
 // Tight enough that both iterations stand at the fixed point to well below the tolerances the
 // comparisons use.
 constexpr double kTightLikelihoodTolerance = 1e-14;
@@ -46,11 +46,12 @@ struct Problem {
 };
 
 Problem problem(const Case& c) {
-  const auto data = testing::draw_measurements(testing::cycling_temperature(c.samples), kDistance,
-                                               testing::cubic_bias, c.truth, c.seed);
-  return {Basis::polynomial(3, data.junction_temperature_c)
-              .design_matrix(data.junction_temperature_c),
-          data.range.array() - kDistance};
+  const auto data =
+      testing::draw_measurements(testing::cycling_temperature(c.samples), kSyntheticDistanceMm,
+                                 testing::cubic_bias, c.truth, c.seed);
+  return {
+      Basis::polynomial(3, data.junction_temperature_c).design_matrix(data.junction_temperature_c),
+      data.range.array() - kSyntheticDistanceMm};
 }
 
 EmTrainResult fit(const Problem& p, int modes, EmAcceleration acceleration,

@@ -12,8 +12,8 @@
 namespace tofcomp::core {
 namespace {
 
-Eigen::VectorXd draw(const MixtureParameters& m, double d, Eigen::Index k, unsigned seed,
-                     Eigen::VectorXi* labels = nullptr) {
+Eigen::VectorXd draw_mixture_ranges(const MixtureParameters& m, double d, Eigen::Index k,
+                                    unsigned seed, Eigen::VectorXi* labels = nullptr) {
   const Eigen::VectorXd t = Eigen::VectorXd::Constant(k, 26.0);
   const auto data = testing::draw_measurements(
       t, d, [](double) { return 0.0; }, m, seed);
@@ -37,7 +37,7 @@ TEST(EmTest, OneModeIsTheCorrectedMean) {
 TEST(EmTest, SeparatedModesMatchTheOracle) {
   const auto m = testing::mixture({-20.0, 20.0}, {1.0, 1.0}, {0.3, 0.7});
   Eigen::VectorXi labels;
-  const Eigen::VectorXd y = draw(m, 1000.0, 800, 3, &labels);
+  const Eigen::VectorXd y = draw_mixture_ranges(m, 1000.0, 800, 3, &labels);
   double oracle = 0.0;
   for (Eigen::Index k = 0; k < y.size(); ++k) oracle += y[k] - m.mean[labels[k]];
   oracle /= static_cast<double>(y.size());
@@ -52,7 +52,7 @@ TEST(EmTest, StandardDeviationMatchesMonteCarlo) {
   double reported = 0.0;
   const int runs = 300;
   for (int run = 0; run < runs; ++run) {
-    const Eigen::VectorXd y = draw(m, 500.0, 400, 100 + static_cast<unsigned>(run));
+    const Eigen::VectorXd y = draw_mixture_ranges(m, 500.0, 400, 100 + static_cast<unsigned>(run));
     const EmTestResult r = test_em(y, Eigen::VectorXd::Zero(y.size()), m);
     estimates.push_back(r.distance);
     reported += r.distance_std / runs;
@@ -67,7 +67,7 @@ TEST(EmTest, StandardDeviationMatchesMonteCarlo) {
 TEST(EmTest, PaperStepCarriesTheModeOffsets) {
   const auto m = testing::mixture({-20.0, 20.0}, {1.0, 1.0}, {0.3, 0.7});
   Eigen::VectorXi labels;
-  const Eigen::VectorXd y = draw(m, 1000.0, 4000, 5, &labels);
+  const Eigen::VectorXd y = draw_mixture_ranges(m, 1000.0, 4000, 5, &labels);
   EmTestOptions paper;
   paper.m_step = MStep::PaperAsPrinted;
   const double fraction_mode2 = labels.cast<double>().mean();
@@ -80,7 +80,7 @@ TEST(EmTest, PaperStepCarriesTheModeOffsets) {
 
 TEST(EmTest, WarmStartAndTrace) {
   const auto m = testing::mixture({-2.0, 2.0}, {1.0, 1.0}, {0.5, 0.5});
-  const Eigen::VectorXd y = draw(m, 50.0, 300, 9);
+  const Eigen::VectorXd y = draw_mixture_ranges(m, 50.0, 300, 9);
   EmTestOptions options;
   options.record_trace = true;
   const EmTestResult cold = test_em(y, Eigen::VectorXd::Zero(y.size()), m, options);
@@ -96,11 +96,12 @@ TEST(EmTest, WarmStartAndTrace) {
 TEST(EmTest, AcceleratedIterationReachesThePlainFixedPointInFewerSteps) {
   const auto m = testing::mixture({-0.8, 0.9}, {1.0, 1.2}, {0.45, 0.55});
   for (const unsigned seed : {21u, 22u, 23u}) {
-    const Eigen::VectorXd y = draw(m, 3000.0, 400, seed);
+    const Eigen::VectorXd y = draw_mixture_ranges(m, 3000.0, 400, seed);
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(y.size());
     EmTestOptions plain;
     plain.acceleration = EmAcceleration::None;
-    for (const std::optional<double> start : {std::optional<double>{}, std::optional<double>{2999.0}}) {
+    for (const std::optional<double> start :
+         {std::optional<double>{}, std::optional<double>{2999.0}}) {
       const EmTestResult slow = test_em(y, zero, m, plain, start);
       const EmTestResult fast = test_em(y, zero, m, {}, start);
       ASSERT_TRUE(slow.converged);

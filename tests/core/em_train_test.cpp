@@ -14,8 +14,8 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr double kDistance = testing::kSyntheticDistanceMm;
 using testing::cubic_bias;
+using testing::kSyntheticDistanceMm;
 
 struct Trained {
   testing::SyntheticMeasurements data;
@@ -26,12 +26,12 @@ struct Trained {
 Trained train_on(const MixtureParameters& truth, unsigned seed, int modes, Eigen::Index samples,
                  EmTrainOptions options = {}) {
   Trained t;
-  t.data = testing::draw_measurements(testing::cycling_temperature(samples), kDistance, cubic_bias,
-                                      truth, seed);
+  t.data = testing::draw_measurements(testing::cycling_temperature(samples), kSyntheticDistanceMm,
+                                      cubic_bias, truth, seed);
   t.basis = Basis::polynomial(3, t.data.junction_temperature_c);
   options.modes = modes;
   t.fit = train_em(t.basis.design_matrix(t.data.junction_temperature_c),
-                   t.data.range.array() - kDistance, options);
+                   t.data.range.array() - kSyntheticDistanceMm, options);
   return t;
 }
 
@@ -217,9 +217,9 @@ TEST(EmTrain, AWarmStartAtTheMaximumStaysThere) {
 // maximum as a cold start of the larger basis.
 TEST(EmTrain, AStartFromANestedBasisReachesTheSameMaximum) {
   const auto truth = testing::mixture({-2.0, 3.0}, {1.0, 1.5}, {0.6, 0.4});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(20000), kDistance,
-                                               cubic_bias, truth, 23);
-  const Eigen::VectorXd y = data.range.array() - kDistance;
+  const auto data = testing::draw_measurements(testing::cycling_temperature(20000),
+                                               kSyntheticDistanceMm, cubic_bias, truth, 23);
+  const Eigen::VectorXd y = data.range.array() - kSyntheticDistanceMm;
   const Basis two = Basis::polynomial(2, data.junction_temperature_c);
   const Basis three = Basis::polynomial(3, data.junction_temperature_c);
   const EmTrainResult small = train_em(two.design_matrix(data.junction_temperature_c), y);
@@ -259,11 +259,11 @@ TEST(EmTrain, StripesOnThreadsGiveTheSerialFitBitForBit) {
 
 TEST(EmTrain, AStartThatDoesNotFitIsRefused) {
   const auto truth = testing::mixture({-2.0, 3.0}, {1.0, 1.5}, {0.6, 0.4});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(2000), kDistance,
-                                               cubic_bias, truth, 25);
-  const Eigen::VectorXd y = data.range.array() - kDistance;
-  const Eigen::MatrixXd h = Basis::polynomial(2, data.junction_temperature_c)
-                                .design_matrix(data.junction_temperature_c);
+  const auto data = testing::draw_measurements(testing::cycling_temperature(2000),
+                                               kSyntheticDistanceMm, cubic_bias, truth, 25);
+  const Eigen::VectorXd y = data.range.array() - kSyntheticDistanceMm;
+  const Eigen::MatrixXd h =
+      Basis::polynomial(2, data.junction_temperature_c).design_matrix(data.junction_temperature_c);
   EmTrainOptions options;
   options.start = EmStartingPoint{Eigen::VectorXd::Zero(3), truth};  // θ longer than H is wide
   EXPECT_THROW(train_em(h, y, options), InvalidInput);

@@ -16,7 +16,7 @@ namespace {
 constexpr double kTightTolerance = 1e-13;  // per range
 constexpr int kIterationCap = 20000;
 
-MixtureParameters overlapping_modes() {
+MixtureParameters overlapping_two_modes() {
   MixtureParameters m;
   m.mean = Eigen::Vector2d(-0.7, 0.8);
   m.variance = Eigen::Vector2d(0.6, 0.9);
@@ -24,7 +24,7 @@ MixtureParameters overlapping_modes() {
   return m;
 }
 
-Term temperature_bins(Parameter parameter, double edge) {
+Term bins_split_at(Parameter parameter, double edge) {
   Term t;
   t.parameter = parameter;
   t.covariate = Covariate::JunctionTemperature;
@@ -33,20 +33,20 @@ Term temperature_bins(Parameter parameter, double edge) {
   return t;
 }
 
-struct Problem {
+struct ExtendedProblem {
   ExtendedDesign design;
   Eigen::VectorXd y;
   ExtendedParameters start;
 };
 
 // Two overlapping modes following a chain, a bias column, and no other extension.
-Problem chain_problem() {
+ExtendedProblem chain_problem() {
   std::mt19937_64 rng(61);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::normal_distribution<double> n(0.0, 1.0);
   const Eigen::Index k = 8000;
-  const MixtureParameters truth = overlapping_modes();
-  Problem p;
+  const MixtureParameters truth = overlapping_two_modes();
+  ExtendedProblem p;
   p.design.shared.resize(k, 1);
   p.design.mode_columns.resize(2);
   p.design.state = Eigen::VectorXi::Zero(k);
@@ -55,9 +55,10 @@ Problem chain_problem() {
   for (Eigen::Index i = 0; i < k; ++i) {
     if (u(rng) > (mode == 0 ? 0.9 : 0.85)) mode = 1 - mode;
     p.design.shared(i, 0) = std::sin(0.001 * static_cast<double>(i));
-    p.y[i] = 0.5 * p.design.shared(i, 0) + truth.mean[mode] + std::sqrt(truth.variance[mode]) * n(rng);
+    p.y[i] =
+        0.5 * p.design.shared(i, 0) + truth.mean[mode] + std::sqrt(truth.variance[mode]) * n(rng);
   }
-  ExtendedMixture start = without_extensions(overlapping_modes());
+  ExtendedMixture start = without_extensions(overlapping_two_modes());
   start.modes.mean = Eigen::Vector2d(-1.0, 1.0);
   start.transition = Eigen::Matrix2d::Constant(0.5);
   p.start = {Eigen::VectorXd::Zero(1), std::vector<Eigen::VectorXd>(2), start};
@@ -65,12 +66,12 @@ Problem chain_problem() {
 }
 
 // Weights and spreads per temperature bin, a bias column, and outliers.
-Problem binned_outlier_problem() {
+ExtendedProblem binned_outlier_problem() {
   std::mt19937_64 rng(62);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::normal_distribution<double> n(0.0, 1.0);
   const Eigen::Index k = 12000;
-  Problem p;
+  ExtendedProblem p;
   p.design.shared.resize(k, 1);
   p.design.mode_columns.resize(2);
   p.design.state.resize(k);
@@ -82,20 +83,20 @@ Problem binned_outlier_problem() {
     p.design.state[i] = bin * 2 + bin;
     const int mode = u(rng) < (bin ? 0.6 : 0.3) ? 1 : 0;
     p.y[i] = u(rng) < 0.02 ? -40.0 + 80.0 * u(rng)
-                            : -0.8 * (t - 26.0) + (mode ? 0.8 : -0.7) + (bin ? 0.9 : 0.6) * n(rng);
+                           : -0.8 * (t - 26.0) + (mode ? 0.8 : -0.7) + (bin ? 0.9 : 0.6) * n(rng);
   }
-  ExtendedMixture start = without_extensions(overlapping_modes());
-  start.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, 26.0),
-                                Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
+  ExtendedMixture start = without_extensions(overlapping_two_modes());
+  start.weight_bins = NoiseBins{
+      bins_split_at(Parameter::Weights, 26.0), Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
   start.variance_bins =
-      NoiseBins{temperature_bins(Parameter::Spread, 26.0), Eigen::MatrixXd::Ones(2, 2), {}, {}};
+      NoiseBins{bins_split_at(Parameter::Spread, 26.0), Eigen::MatrixXd::Ones(2, 2), {}, {}};
   start.outlier_weight = 0.05;
   start.outlier_density = 1.0 / 80.0;
   p.start = {Eigen::VectorXd::Zero(1), std::vector<Eigen::VectorXd>(2), start};
   return p;
 }
 
-ExtendedEmResult fit(const Problem& p, EmAcceleration acceleration) {
+ExtendedEmResult fit_extended(const ExtendedProblem& p, EmAcceleration acceleration) {
   ExtendedEmOptions options;
   options.acceleration = acceleration;
   options.log_likelihood_tolerance = kTightTolerance;
@@ -117,14 +118,15 @@ void expect_monotone(const ExtendedEmResult& fit) {
   for (std::size_t i = 1; i < fit.log_likelihood_trace.size(); ++i) {
     EXPECT_GE(fit.log_likelihood_trace[i],
               fit.log_likelihood_trace[i - 1] - 1e-12 * std::abs(fit.log_likelihood_trace[i]))
-        << std::setprecision(17) << "point " << i << ": " << fit.log_likelihood_trace[i] << " after " << fit.log_likelihood_trace[i - 1];
+        << std::setprecision(17) << "point " << i << ": " << fit.log_likelihood_trace[i]
+        << " after " << fit.log_likelihood_trace[i - 1];
   }
 }
 
 TEST(ExtendedEmAcceleration, ChainReachesThePlainFixedPoint) {
-  const Problem p = chain_problem();
-  const ExtendedEmResult plain = fit(p, EmAcceleration::None);
-  const ExtendedEmResult fast = fit(p, EmAcceleration::Squarem);
+  const ExtendedProblem p = chain_problem();
+  const ExtendedEmResult plain = fit_extended(p, EmAcceleration::None);
+  const ExtendedEmResult fast = fit_extended(p, EmAcceleration::Squarem);
   ASSERT_TRUE(plain.converged);
   ASSERT_TRUE(fast.converged);
   expect_same_fit(fast, plain);
@@ -138,9 +140,9 @@ TEST(ExtendedEmAcceleration, ChainReachesThePlainFixedPoint) {
 }
 
 TEST(ExtendedEmAcceleration, BinsAndOutliersReachThePlainFixedPoint) {
-  const Problem p = binned_outlier_problem();
-  const ExtendedEmResult plain = fit(p, EmAcceleration::None);
-  const ExtendedEmResult fast = fit(p, EmAcceleration::Squarem);
+  const ExtendedProblem p = binned_outlier_problem();
+  const ExtendedEmResult plain = fit_extended(p, EmAcceleration::None);
+  const ExtendedEmResult fast = fit_extended(p, EmAcceleration::Squarem);
   ASSERT_TRUE(plain.converged);
   ASSERT_TRUE(fast.converged);
   expect_same_fit(fast, plain);

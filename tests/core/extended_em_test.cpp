@@ -13,6 +13,7 @@
 #include "core/covariate_table.hpp"
 #include "core/em_test.hpp"
 #include "core/error.hpp"
+#include "tests/support/synthetic_measurements.hpp"
 
 namespace tofcomp::core {
 namespace {
@@ -38,18 +39,13 @@ ExtendedParameters start_at(const Eigen::VectorXd& theta, const ExtendedMixture&
 }
 
 // A noise term of the bins form on the junction temperature with the given interior edges.
-Term temperature_bins(Parameter parameter, const Eigen::VectorXd& edges) {
+Term bins_split_at_edges(Parameter parameter, const Eigen::VectorXd& edges) {
   Term t;
   t.parameter = parameter;
   t.covariate = Covariate::JunctionTemperature;
   t.form = Form::Bins;
   t.knots = edges;
   return t;
-}
-
-double normal_pdf(double x, double mean, double variance) {
-  return std::exp(-0.5 * (x - mean) * (x - mean) / variance) /
-         std::sqrt(2.0 * std::numbers::pi * variance);
 }
 
 // Draws K residuals from a two-mode Markov chain (stationary start).
@@ -117,7 +113,7 @@ TEST(ExtendedMixture, ChainMatchesEnumerationOfEveryPath) {
     for (int k = 0; k < 8; ++k) {
       const int mode = (path >> k) & 1;
       const double prior = k == 0 ? m.weight[mode] : a((path >> (k - 1)) & 1, mode);
-      p *= prior * normal_pdf(e[k], m.mean[mode], m.variance[mode]);
+      p *= prior * testing::normal_pdf(e[k], m.mean[mode], m.variance[mode]);
     }
     total += p;
     for (int k = 0; k < 8; ++k) posterior(k, (path >> k) & 1) += p;
@@ -141,7 +137,8 @@ TEST(ExtendedMixture, OutlierComponentMatchesItsDensity) {
   const double ll = extended_e_step(e, Eigen::VectorXi::Zero(3), kNoShift, m, r);
   double expected = 0.0;
   for (Eigen::Index k = 0; k < 3; ++k) {
-    const double inlier = 0.6 * normal_pdf(e[k], -1.0, 0.8) + 0.4 * normal_pdf(e[k], 1.5, 1.2);
+    const double inlier =
+        0.6 * testing::normal_pdf(e[k], -1.0, 0.8) + 0.4 * testing::normal_pdf(e[k], 1.5, 1.2);
     const double density = 0.95 * inlier + 0.05 / 200.0;
     expected += std::log(density);
     EXPECT_NEAR(r.outlier[k], 0.05 / 200.0 / density, 1e-12);
@@ -159,8 +156,10 @@ TEST(ExtendedMixture, ValidationNamesTheProblem) {
   m.outlier_density = 0.01;
   EXPECT_THROW(m.validate(), InvalidInput);  // a chain with an outlier component
   m = without_extensions(two_modes());
-  m.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, Eigen::Vector2d(26.0, 25.0)),
-                            Eigen::MatrixXd::Constant(3, 2, 0.5), {}, {}};
+  m.weight_bins = NoiseBins{bins_split_at_edges(Parameter::Weights, Eigen::Vector2d(26.0, 25.0)),
+                            Eigen::MatrixXd::Constant(3, 2, 0.5),
+                            {},
+                            {}};
   EXPECT_THROW(m.validate(), InvalidInput);  // edges not increasing
   m.weight_bins->term.knots = Eigen::Vector2d(25.0, 26.0);
   m.weight_bins->table = Eigen::MatrixXd::Constant(2, 2, 0.5);
@@ -179,8 +178,9 @@ TEST(ExtendedEm, RecoversTheTransitionMatrix) {
   const Eigen::VectorXd e = draw_chain(truth, a, k, 3);
   ExtendedMixture start = without_extensions(two_modes());
   start.transition = Eigen::Matrix2d::Constant(0.5);
-  const ExtendedEmResult fit = train_extended_em(design(Eigen::MatrixXd(k, 0), 2, Eigen::VectorXi::Zero(k)), e,
-                                                 start_at(Eigen::VectorXd(0), start));
+  const ExtendedEmResult fit =
+      train_extended_em(design(Eigen::MatrixXd(k, 0), 2, Eigen::VectorXi::Zero(k)), e,
+                        start_at(Eigen::VectorXd(0), start));
   EXPECT_TRUE(fit.converged);
   EXPECT_NEAR(fit.fit.model.transition(0, 0), 0.92, 0.01);
   EXPECT_NEAR(fit.fit.model.transition(1, 1), 0.88, 0.015);
@@ -210,10 +210,10 @@ TEST(ExtendedEm, RecoversBinWeightsVariancesAndBias) {
   }
   ExtendedMixture start = without_extensions(two_modes());
   const Eigen::VectorXd edge = Eigen::VectorXd::Constant(1, 26.0);
-  start.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, edge),
-                                Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
+  start.weight_bins = NoiseBins{
+      bins_split_at_edges(Parameter::Weights, edge), Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
   start.variance_bins =
-      NoiseBins{temperature_bins(Parameter::Spread, edge), Eigen::MatrixXd::Ones(2, 2), {}, {}};
+      NoiseBins{bins_split_at_edges(Parameter::Spread, edge), Eigen::MatrixXd::Ones(2, 2), {}, {}};
   // The noise state of each range: its weight bin × 2 + its spread bin (the same bin here).
   Eigen::VectorXi state(k);
   for (Eigen::Index i = 0; i < k; ++i) state[i] = t[i] >= 26.0 ? 3 : 0;
@@ -266,7 +266,8 @@ TEST(ExtendedEm, PlainMixtureOnTheFusedSweepIsTheGenericIteration) {
     EXPECT_NEAR(a.log_likelihood, b.log_likelihood, 1e-6);
     EXPECT_LE((a.fit.theta - b.fit.theta).cwiseAbs().maxCoeff(), 1e-5);
     EXPECT_LE((a.fit.model.modes.mean - b.fit.model.modes.mean).cwiseAbs().maxCoeff(), 1e-5);
-    EXPECT_LE((a.fit.model.modes.variance - b.fit.model.modes.variance).cwiseAbs().maxCoeff(), 1e-5);
+    EXPECT_LE((a.fit.model.modes.variance - b.fit.model.modes.variance).cwiseAbs().maxCoeff(),
+              1e-5);
     EXPECT_LE((a.fit.model.modes.weight - b.fit.model.modes.weight).cwiseAbs().maxCoeff(), 1e-5);
     EXPECT_GT(a.fit.model.modes.mean[0], a.fit.model.modes.mean[1]);  // the start's order
     EXPECT_NEAR(a.fit.theta[0], 1.2, 0.1);
@@ -314,12 +315,14 @@ TEST(ExtendedEm, IndependentDrawsOnTheFusedSweepAreTheGenericIteration) {
     const bool weights = shape == 2 || shape == 3;
     ExtendedMixture model = without_extensions(two_modes());
     if (spreads) {
-      model.variance_bins = NoiseBins{temperature_bins(Parameter::Spread, edge),
-                                      Eigen::MatrixXd::Ones(2, 2), {}, {}};
+      model.variance_bins = NoiseBins{
+          bins_split_at_edges(Parameter::Spread, edge), Eigen::MatrixXd::Ones(2, 2), {}, {}};
     }
     if (weights) {
-      model.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, edge),
-                                    Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
+      model.weight_bins = NoiseBins{bins_split_at_edges(Parameter::Weights, edge),
+                                    Eigen::MatrixXd::Constant(2, 2, 0.5),
+                                    {},
+                                    {}};
     }
     Eigen::VectorXi state(k);
     for (Eigen::Index i = 0; i < k; ++i) {
@@ -357,10 +360,9 @@ TEST(ExtendedEm, IndependentDrawsOnTheFusedSweepAreTheGenericIteration) {
                   1e-5);
       }
       if (weights) {
-        EXPECT_LE((a.fit.model.weight_bins->table - b.fit.model.weight_bins->table)
-                      .cwiseAbs()
-                      .maxCoeff(),
-                  1e-5);
+        EXPECT_LE(
+            (a.fit.model.weight_bins->table - b.fit.model.weight_bins->table).cwiseAbs().maxCoeff(),
+            1e-5);
         EXPECT_NEAR(a.fit.model.weight_bins->table(1, 1), 0.6, 0.05);
       }
       if (acceleration == EmAcceleration::None) {
@@ -401,8 +403,8 @@ TEST(ExtendedEm, TestingWithoutExtensionsIsThePapersTesting) {
   const Eigen::VectorXd y = e.array() + 3000.0;
   const Eigen::VectorXd bias = Eigen::VectorXd::Constant(300, 0.25);
   const EmTestResult paper = test_em(y, bias, two_modes());
-  const EmTestResult extended =
-      test_extended_em(y, bias, Eigen::VectorXi::Zero(300), kNoShift, without_extensions(two_modes()));
+  const EmTestResult extended = test_extended_em(y, bias, Eigen::VectorXi::Zero(300), kNoShift,
+                                                 without_extensions(two_modes()));
   EXPECT_NEAR(extended.distance, paper.distance, 1e-9);
   EXPECT_NEAR(extended.distance_std, paper.distance_std, 1e-9);
 }
@@ -508,8 +510,7 @@ TEST(ExtendedEm, RecoversAModeOffsetSlope) {
   Eigen::MatrixXd window_shift = Eigen::MatrixXd::Zero(w, 2);
   window_shift.col(1).setConstant(em.fit.mode_coefficients[1][0]);
   const double shifted =
-      test_extended_em(window, bias, Eigen::VectorXi::Zero(w), window_shift, em.fit.model)
-          .distance;
+      test_extended_em(window, bias, Eigen::VectorXi::Zero(w), window_shift, em.fit.model).distance;
   const double unshifted =
       test_extended_em(window, bias, Eigen::VectorXi::Zero(w), kNoShift, em.fit.model).distance;
   EXPECT_NEAR(shifted, 3000.0, 0.1);
@@ -533,10 +534,13 @@ TEST(ExtendedEm, WeightsAndSpreadsBinnedByDifferentCovariates) {
     y[i] = (mode ? 2.5 : -2.5) + spread[sb] * n(rng);
   }
   ExtendedMixture start = without_extensions(two_modes());
-  Term time_bins = temperature_bins(Parameter::Spread, Eigen::VectorXd::Constant(1, 1.0));
+  Term time_bins = bins_split_at_edges(Parameter::Spread, Eigen::VectorXd::Constant(1, 1.0));
   time_bins.covariate = Covariate::Time;
-  start.weight_bins = NoiseBins{temperature_bins(Parameter::Weights, Eigen::VectorXd::Constant(1, 26.0)),
-                                Eigen::MatrixXd::Constant(2, 2, 0.5), {}, {}};
+  start.weight_bins =
+      NoiseBins{bins_split_at_edges(Parameter::Weights, Eigen::VectorXd::Constant(1, 26.0)),
+                Eigen::MatrixXd::Constant(2, 2, 0.5),
+                {},
+                {}};
   start.variance_bins = NoiseBins{time_bins, Eigen::MatrixXd::Ones(2, 2), {}, {}};
   const ExtendedEmResult em = train_extended_em(design(Eigen::MatrixXd(k, 0), 2, state), y,
                                                 start_at(Eigen::VectorXd(0), start));
@@ -570,7 +574,7 @@ TEST(ExtendedEm, RecoversWeightAndSpreadSlopes) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::normal_distribution<double> n(0.0, 1.0);
   const Eigen::Index k = 40000;
-  const double odds_intercept = -0.4, odds_slope = 0.9;   // mode 2 against mode 1
+  const double odds_intercept = -0.4, odds_slope = 0.9;  // mode 2 against mode 1
   const double log_var_slope = 0.25;                     // both modes
   const Term weights = linear_noise_term(Parameter::Weights);
   const Term spread = linear_noise_term(Parameter::Spread);
@@ -589,8 +593,8 @@ TEST(ExtendedEm, RecoversWeightAndSpreadSlopes) {
   start.weight_bins->refresh_table();
   start.variance_bins = NoiseBins{spread, {}, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero()};
   start.variance_bins->refresh_table();
-  const ExtendedEmResult em =
-      train_extended_em(design(Eigen::MatrixXd(k, 0), 2, state), y, start_at(Eigen::VectorXd(0), start));
+  const ExtendedEmResult em = train_extended_em(design(Eigen::MatrixXd(k, 0), 2, state), y,
+                                                start_at(Eigen::VectorXd(0), start));
   const ExtendedMixture& fit = em.fit.model;
   EXPECT_NEAR(fit.weight_bins->intercept[1], odds_intercept, 0.05);
   EXPECT_NEAR(fit.weight_bins->slope[1], odds_slope, 0.04);

@@ -34,7 +34,7 @@ struct Drawn {
 
 // `episodes` still surfaces at 0.8-8 m, each seen over its own stretch of temperatures 10-30 K
 // wide, `per_episode` ranges each; then `bench` ranges of known distance in 35-40 °C.
-Drawn draw(int episodes, int per_episode, int bench, unsigned seed) {
+Drawn draw_episodes(int episodes, int per_episode, int bench, unsigned seed) {
   Drawn d;
   d.mixture.mean = Eigen::Vector2d(-2.0, 6.0);
   d.mixture.variance = Eigen::Vector2d(1.5 * 1.5, 2.0 * 2.0);
@@ -82,7 +82,7 @@ double largest_bias_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& 
 }
 
 TEST(FieldEm, WithoutAReferenceRecoversAllButTheSharedConstant) {
-  const Drawn d = draw(30, 1000, 0, 1);
+  const Drawn d = draw_episodes(30, 1000, 0, 1);
   const FieldEmResult fit = train_field_em(d.h, d.y, d.episode, 30);
   EXPECT_TRUE(fit.converged);
   EXPECT_FALSE(fit.distance_determined);
@@ -103,7 +103,7 @@ TEST(FieldEm, WithoutAReferenceRecoversAllButTheSharedConstant) {
 }
 
 TEST(FieldEm, APinnedMeanOffsetMovesOnlyTheDistances) {
-  const Drawn d = draw(12, 800, 0, 2);
+  const Drawn d = draw_episodes(12, 800, 0, 2);
   const FieldEmResult zero = train_field_em(d.h, d.y, d.episode, 12);
   FieldEmOptions pinned;
   pinned.pinned_mean_offset_mm = 3.0;
@@ -117,7 +117,7 @@ TEST(FieldEm, APinnedMeanOffsetMovesOnlyTheDistances) {
 
 TEST(FieldEm, ABenchBlockOfKnownDistanceFixesTheAbsoluteLevel) {
   // The bench sees 35-40 °C only; the field days the whole band.
-  const Drawn d = draw(20, 1000, 5000, 3);
+  const Drawn d = draw_episodes(20, 1000, 5000, 3);
   const FieldEmResult fit = train_field_em(d.h, d.y, d.episode, 20);
   EXPECT_TRUE(fit.distance_determined);
   for (int e = 0; e < 20; ++e) {
@@ -129,7 +129,7 @@ TEST(FieldEm, ABenchBlockOfKnownDistanceFixesTheAbsoluteLevel) {
 }
 
 TEST(FieldEm, AStartFromABenchCalibrationEndsAtTheSameFit) {
-  const Drawn d = draw(10, 1000, 2000, 4);
+  const Drawn d = draw_episodes(10, 1000, 2000, 4);
   const FieldEmResult cold = train_field_em(d.h, d.y, d.episode, 10);
   FieldEmOptions warm;
   warm.start = EmStartingPoint{Eigen::Vector2d(3.0, 0.0), d.mixture};
@@ -139,7 +139,7 @@ TEST(FieldEm, AStartFromABenchCalibrationEndsAtTheSameFit) {
 }
 
 TEST(FieldEm, BadArgumentsAreNamed) {
-  const Drawn d = draw(3, 100, 0, 5);
+  const Drawn d = draw_episodes(3, 100, 0, 5);
   std::vector<int> outside = d.episode;
   outside[7] = 3;
   try {

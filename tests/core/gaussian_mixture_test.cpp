@@ -11,11 +11,6 @@
 namespace tofcomp::core {
 namespace {
 
-double normal_pdf(double x, double mean, double variance) {
-  return std::exp(-(x - mean) * (x - mean) / (2 * variance)) /
-         std::sqrt(2 * std::numbers::pi * variance);
-}
-
 // Eq. 18 worked by hand for one residual.
 TEST(GaussianMixture, ResponsibilitiesAreEquation18) {
   const auto m = testing::mixture({-1.0, 2.0}, {0.5, 1.5}, {0.7, 0.3});
@@ -24,8 +19,8 @@ TEST(GaussianMixture, ResponsibilitiesAreEquation18) {
   const double ll = mixture_e_step(e, m, r);
   double expected_ll = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const double a = 0.7 * normal_pdf(e[k], -1.0, 0.25);
-    const double b = 0.3 * normal_pdf(e[k], 2.0, 2.25);
+    const double a = 0.7 * testing::normal_pdf(e[k], -1.0, 0.25);
+    const double b = 0.3 * testing::normal_pdf(e[k], 2.0, 2.25);
     EXPECT_NEAR(r(k, 1), b / (a + b), 1e-14);
     EXPECT_NEAR(r(k, 0) + r(k, 1), 1.0, 1e-15);
     expected_ll += std::log(a + b);
@@ -79,7 +74,7 @@ TEST(GaussianMixture, RoundedProbabilitiesAreTheIntervalsOfTheModes) {
   variance << 1.0, 4.0;
   const Eigen::ArrayXd per_mode =
       rounded_normal_log_probabilities(residual.head(2).array(), mean, variance, 2.0);
-  EXPECT_NEAR(per_mode[0], std::log(0.6826894921370859), 1e-12);  // P(|Z| < 1)
+  EXPECT_NEAR(per_mode[0], std::log(0.6826894921370859), 1e-12);   // P(|Z| < 1)
   EXPECT_NEAR(per_mode[1], std::log(0.38292492254802624), 1e-12);  // P(|Z| < ½), σ = 2
 }
 

@@ -19,14 +19,14 @@ namespace {
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
-struct Record {
+struct ThermalLog {
   Eigen::VectorXd times, power, ambient, reading;
   std::vector<bool> measured;
 };
 
 // A small irregular record with gaps in the readings.
-Record small_record() {
-  Record r;
+ThermalLog small_record() {
+  ThermalLog r;
   r.times = (Eigen::VectorXd(12) << 0, 0.7, 2, 2.5, 4.1, 6, 6.3, 9, 12, 12.4, 15, 20).finished();
   r.power = (Eigen::VectorXd(12) << 1, 1, 1, 0, 0, 1, 1, 0.5, 0, 0, 1, 1).finished();
   r.ambient =
@@ -115,7 +115,7 @@ TEST(KalmanSmoother, EqualsBatchWeightedLeastSquares) {
   const ThermalParameters p = testing::round_thermal_parameters();
   const ThermalNoise n = loud_noise();
   const ThermalBelief b = prior();
-  const Record r = small_record();
+  const ThermalLog r = small_record();
   const Eigen::Index k = r.times.size();
 
   Eigen::MatrixXd information = Eigen::MatrixXd::Zero(2 * k, 2 * k);
@@ -161,7 +161,7 @@ TEST(KalmanSmoother, EqualsBatchWeightedLeastSquares) {
 TEST(KalmanSmoother, LastEstimateIsTheFilters) {
   const ThermalParameters p = testing::round_thermal_parameters();
   const ThermalNoise n = loud_noise();
-  const Record r = small_record();
+  const ThermalLog r = small_record();
   ThermalKalmanFilter filter(p, n, prior());
   for (Eigen::Index i = 0; i < r.times.size(); ++i) {
     if (i > 0) filter.predict(r.times[i] - r.times[i - 1], r.power[i - 1], r.ambient[i - 1]);
@@ -197,8 +197,8 @@ TEST(KalmanSmoother, AStateKnownExactlyStaysOnTheModelsTrajectory) {
   ThermalBelief known;
   known.mean = start;
   known.covariance << 1e-14, 0.0, 0.0, 1e-30;
-  const SmoothedThermalRecord s = smooth_thermal_record(p, n, known, times, u, ta, reading,
-                                                        std::vector<bool>(k, true));
+  const SmoothedThermalRecord s =
+      smooth_thermal_record(p, n, known, times, u, ta, reading, std::vector<bool>(k, true));
   for (Eigen::Index i = 0; i < k; ++i) {
     ASSERT_NEAR(s.junction_mean_c[i], truth.junction_c[i], 1e-6) << i;
     ASSERT_NEAR(s.case_mean_c[i], truth.case_c[i], 1e-6) << i;
@@ -254,9 +254,8 @@ TEST(KalmanSmoother, MixedRateRecordGivesTheJunctionEverywhere) {
     measured[static_cast<std::size_t>(i)] = true;
   }
   const ThermalNoise n;
-  const SmoothedThermalRecord s =
-      smooth_thermal_record(p, n, prior_at_case_temperature(p, reading[0], ta[0], 0.05), times,
-                            u, ta, reading, measured);
+  const SmoothedThermalRecord s = smooth_thermal_record(
+      p, n, prior_at_case_temperature(p, reading[0], ta[0], 0.05), times, u, ta, reading, measured);
   ASSERT_EQ(s.junction_mean_c.size(), k);
   EXPECT_TRUE(s.junction_mean_c.allFinite());
   EXPECT_TRUE(s.junction_std_c.allFinite());
@@ -297,7 +296,7 @@ TEST(ThermalKalmanFilter, BadInputThrowsAndLeavesTheStateAlone) {
   singular.covariance << 1.0, 1.0, 1.0, 1.0;
   EXPECT_THROW(ThermalKalmanFilter(p, loud_noise(), singular), InvalidInput);
 
-  Record r = small_record();
+  ThermalLog r = small_record();
   r.reading[0] = kNan;  // NaN at a measured instant
   EXPECT_THROW(smooth_thermal_record(p, loud_noise(), prior(), r.times, r.power, r.ambient,
                                      r.reading, r.measured),

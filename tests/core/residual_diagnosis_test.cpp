@@ -2,6 +2,8 @@
 // rounded to whole millimetres as the LMS 200 reports them: judged by draws of the model they
 // keep their false-alarm rate where the textbook laws do not, they find what a broad mode holds
 // as outliers, and they give one result on any number of threads.
+#include "core/residual_diagnosis.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,14 +14,13 @@
 #include <thread>
 #include <vector>
 
-#include "core/residual_diagnosis.hpp"
 #include "core/error.hpp"
 #include "core/residual_statistics.hpp"
 
 namespace tofcomp::core {
 namespace {
 
-constexpr Eigen::Index kRanges = 20000;
+constexpr Eigen::Index kDiagnosedRanges = 20000;
 constexpr double kCycleS = 4000.0;  // one power cycle: the junction warms up from 25 °C
 
 // Two overlapping lasing modes (2.4 mm apart, σ 1.0 and 1.2 mm).
@@ -51,13 +52,13 @@ DiagnosisInput rounded_record(std::uint64_t seed, const MixtureParameters& modes
   std::normal_distribution<double> normal;
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   DiagnosisInput in;
-  in.time_s.resize(kRanges);
-  in.junction_c.resize(kRanges);
-  in.junction_rate_c_per_s.resize(kRanges);
-  in.time_since_power_on_s.resize(kRanges);
-  in.residual.resize(kRanges);
-  in.predicted_mm.resize(kRanges);
-  for (Eigen::Index k = 0; k < kRanges; ++k) {
+  in.time_s.resize(kDiagnosedRanges);
+  in.junction_c.resize(kDiagnosedRanges);
+  in.junction_rate_c_per_s.resize(kDiagnosedRanges);
+  in.time_since_power_on_s.resize(kDiagnosedRanges);
+  in.residual.resize(kDiagnosedRanges);
+  in.predicted_mm.resize(kDiagnosedRanges);
+  for (Eigen::Index k = 0; k < kDiagnosedRanges; ++k) {
     const double t = static_cast<double>(k);
     const double on = std::fmod(t, kCycleS);
     in.time_s[k] = t;
@@ -65,8 +66,9 @@ DiagnosisInput rounded_record(std::uint64_t seed, const MixtureParameters& modes
     in.junction_c[k] = 25.0 + 6.0 * (1.0 - std::exp(-on / 800.0));
     in.junction_rate_c_per_s[k] = 6.0 / 800.0 * std::exp(-on / 800.0);
     in.predicted_mm[k] = 3000.0 + 0.9 * (in.junction_c[k] - 25.0);
-    const double second =
-        extra == Extra::HotterModeTwo ? 0.3 + 0.4 * (in.junction_c[k] - 25.0) / 6.0 : modes.weight[1];
+    const double second = extra == Extra::HotterModeTwo
+                              ? 0.3 + 0.4 * (in.junction_c[k] - 25.0) / 6.0
+                              : modes.weight[1];
     in.predicted_mm[k] += (second - modes.weight[1]) * (modes.mean[1] - modes.mean[0]);
     const int mode = uniform(rng) < second ? 1 : 0;
     const double w = modes.mean[mode] + std::sqrt(modes.variance[mode]) * normal(rng);

@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "core/change_detector.hpp"
+#include "core/covariate_table.hpp"
 #include "core/error.hpp"
 #include "core/extended_em.hpp"
 #include "core/sliding_window_estimator.hpp"
-#include "core/covariate_table.hpp"
 #include "tests/support/synthetic_measurements.hpp"
 
 namespace tofcomp::core {
@@ -18,7 +18,7 @@ namespace {
 
 const MixtureParameters kModes = testing::mixture({-2.0, 2.5}, {0.9, 1.1}, {0.55, 0.45});
 
-Eigen::VectorXd draw(double d, Eigen::Index k, unsigned seed) {
+Eigen::VectorXd draw_window_ranges(double d, Eigen::Index k, unsigned seed) {
   return testing::draw_measurements(
              Eigen::VectorXd::Constant(k, 26.0), d, [](double) { return 0.0; }, kModes, seed)
       .range;
@@ -45,7 +45,7 @@ TEST(SlidingWindow, EqualsBatchTestOnTheLatestWindow) {
   SlidingWindowOptions options;
   options.window = 100;
   SlidingWindowEstimator estimator(kModes, options);
-  const Eigen::VectorXd y = draw(3000.0, 400, 3);
+  const Eigen::VectorXd y = draw_window_ranges(3000.0, 400, 3);
   for (Eigen::Index k = 0; k < y.size(); ++k) {
     const WindowEstimate e = estimator.add(y[k]);
     ASSERT_FALSE(e.change_detected) << k;
@@ -114,8 +114,8 @@ TEST(SlidingWindow, IncrementalTracksTheBatchEstimate) {
 TEST(SlidingWindow, RestartsWhenTheSceneChanges) {
   for (unsigned seed = 1; seed <= 10; ++seed) {
     SlidingWindowEstimator estimator(kModes, seed <= 5 ? SlidingWindowOptions{} : incremental());
-    const Eigen::VectorXd wall = draw(3000.0, 2000, seed);
-    const Eigen::VectorXd object = draw(2700.0, 400, seed + 100);
+    const Eigen::VectorXd wall = draw_window_ranges(3000.0, 2000, seed);
+    const Eigen::VectorXd object = draw_window_ranges(2700.0, 400, seed + 100);
     int false_alarms = 0;
     for (Eigen::Index k = 0; k < wall.size(); ++k)
       false_alarms += estimator.add(wall[k]).change_detected;
@@ -137,7 +137,7 @@ TEST(SlidingWindow, RestartingFlagUntilMinSamples) {
   SlidingWindowOptions options;
   options.min_samples = 5;
   SlidingWindowEstimator estimator(kModes, options);
-  const Eigen::VectorXd y = draw(1000.0, 6, 9);
+  const Eigen::VectorXd y = draw_window_ranges(1000.0, 6, 9);
   for (Eigen::Index k = 0; k < 6; ++k) EXPECT_EQ(estimator.add(y[k]).restarting, k < 4) << k;
   EXPECT_THROW(estimator.add(INFINITY), InvalidInput);
   options.min_samples = 0;
@@ -155,7 +155,7 @@ struct ExtendedCase {
   double mode2_slope = 0.0;  // mm per °C of the junction: mode 2's offset shift (0: none)
 };
 
-Term temperature_bins(Parameter parameter) {
+Term two_temperature_bins(Parameter parameter) {
   Term t;
   t.parameter = parameter;
   t.covariate = Covariate::JunctionTemperature;
@@ -176,11 +176,13 @@ int state_at(const ExtendedMixture& m, double junction) {
 std::vector<ExtendedCase> extended_cases() {
   std::vector<ExtendedCase> cases;
   ExtendedMixture weights = without_extensions(kModes);
-  weights.weight_bins = NoiseBins{temperature_bins(Parameter::Weights), Eigen::MatrixXd(2, 2), {}, {}};
+  weights.weight_bins =
+      NoiseBins{two_temperature_bins(Parameter::Weights), Eigen::MatrixXd(2, 2), {}, {}};
   weights.weight_bins->table << 0.85, 0.15, 0.2, 0.8;
   cases.push_back({"bin weights", weights});
   ExtendedMixture spread = without_extensions(kModes);
-  spread.variance_bins = NoiseBins{temperature_bins(Parameter::Spread), Eigen::MatrixXd(2, 2), {}, {}};
+  spread.variance_bins =
+      NoiseBins{two_temperature_bins(Parameter::Spread), Eigen::MatrixXd(2, 2), {}, {}};
   spread.variance_bins->table << 0.5, 0.6, 2.5, 3.0;
   cases.push_back({"bin variances", spread});
   cases.push_back({"mode offset shift", without_extensions(kModes), 0.3});
@@ -251,9 +253,9 @@ TEST(SlidingWindowExtended, ExactEqualsBatchExtendedTest) {
     const ExtendedDraw data = draw_extended(c, 3000.0, 600, 5);
     Eigen::Index start = 0;
     for (Eigen::Index k = 0; k < data.y.size(); ++k) {
-      const WindowEstimate e =
-          estimator.add(data.y[k], data.bin[k],
-                        shifted ? Eigen::VectorXd(data.shift.row(k).transpose()) : Eigen::VectorXd());
+      const WindowEstimate e = estimator.add(
+          data.y[k], data.bin[k],
+          shifted ? Eigen::VectorXd(data.shift.row(k).transpose()) : Eigen::VectorXd());
       if (e.change_detected) {
         // Only a window that started on an outlier is restarted, at the end of its run.
         ASSERT_LT(k, 20) << c.name;
@@ -294,16 +296,17 @@ TEST(SlidingWindowExtended, IncrementalTracksTheBatchExtendedTest) {
     double truth_square = 0.0;
     int checks = 0;
     for (Eigen::Index k = 0; k < n; ++k) {
-      const WindowEstimate e =
-          estimator.add(data.y[k], data.bin[k],
-                        shifted ? Eigen::VectorXd(data.shift.row(k).transpose()) : Eigen::VectorXd());
+      const WindowEstimate e = estimator.add(
+          data.y[k], data.bin[k],
+          shifted ? Eigen::VectorXd(data.shift.row(k).transpose()) : Eigen::VectorXd());
       ASSERT_FALSE(e.change_detected) << c.name << " " << k;
       if ((k + 1) % 250 != 0) continue;
-      const auto batch = test_extended_em(
-          data.y.segment(k + 1 - 200, 200), Eigen::VectorXd::Zero(200),
-          data.bin.segment(k + 1 - 200, 200),
-          shifted ? Eigen::MatrixXd(data.shift.middleRows(k + 1 - 200, 200)) : Eigen::MatrixXd(0, 0),
-          c.noise);
+      const auto batch =
+          test_extended_em(data.y.segment(k + 1 - 200, 200), Eigen::VectorXd::Zero(200),
+                           data.bin.segment(k + 1 - 200, 200),
+                           shifted ? Eigen::MatrixXd(data.shift.middleRows(k + 1 - 200, 200))
+                                   : Eigen::MatrixXd(0, 0),
+                           c.noise);
       const double z = (e.distance - batch.distance) / batch.distance_std;
       sum_square += z * z;
       truth_square += std::pow((e.distance - 3000.0) / batch.distance_std, 2);
@@ -338,7 +341,7 @@ TEST(SlidingWindowExtended, OutliersNeitherMoveNorRestartTheWindow) {
     SlidingWindowOptions options = incremental(200);
     options.method = method;
     SlidingWindowEstimator estimator(noise, options);
-    const Eigen::VectorXd wall = draw(3000.0, 300, 4);
+    const Eigen::VectorXd wall = draw_window_ranges(3000.0, 300, 4);
     WindowEstimate before;
     for (Eigen::Index k = 0; k < wall.size(); ++k) before = estimator.add(wall[k]);
     const WindowEstimate e = estimator.add(3150.0);
@@ -361,7 +364,7 @@ TEST(SlidingWindowExtended, NoExtensionIsThePlainMixtureBitForBit) {
     options.method = method;
     SlidingWindowEstimator plain(kModes, options);
     SlidingWindowEstimator extended(without_extensions(kModes), options);
-    const Eigen::VectorXd y = draw(3000.0, 500, 8);
+    const Eigen::VectorXd y = draw_window_ranges(3000.0, 500, 8);
     for (Eigen::Index k = 0; k < y.size(); ++k) {
       const WindowEstimate a = plain.add(y[k]);
       const WindowEstimate b = extended.add(y[k], 0);

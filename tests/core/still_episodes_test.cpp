@@ -31,7 +31,7 @@ constexpr double kPalletMm = 2400.0;
 // their spacing and four of the wider spread.
 constexpr double kGateMm = 8.0 + 4.0 * 2.0;
 
-Beam draw(unsigned seed) {
+Beam draw_beam(unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -74,7 +74,7 @@ Beam draw(unsigned seed) {
 }
 
 TEST(StillEpisodes, TheWallAndThePalletAreStillWhatPassesIsSetApart) {
-  const Beam b = draw(7);
+  const Beam b = draw_beam(7);
   StillEpisodeOptions options;
   options.gate_mm = kGateMm;
   const StillSegmentation s = find_still_episodes(b.time_s, b.range_mm, options);

@@ -11,23 +11,26 @@
 namespace tofcomp::core {
 namespace {
 
-constexpr double kDistance = testing::kSyntheticDistanceMm;
 using testing::cubic_bias;
+using testing::kSyntheticDistanceMm;
 
-double linear_bias(double t) { return 1.5 * (t - 26.8); }
+double linear_bias(double t) {
+  return 1.5 * (t - 26.8);
+}
 
 StructureChoice search_on(const testing::SyntheticMeasurements& data,
                           StructureSearchOptions options = {}) {
   options.max_fourier_order = 0;  // the polynomial family alone unless a test asks for both
-  return search_structure(data.junction_temperature_c, data.range.array() - kDistance, options);
+  return search_structure(data.junction_temperature_c, data.range.array() - kSyntheticDistanceMm,
+                          options);
 }
 
 // Three well separated modes and a cubic bias: the search finds three modes and an order that
 // follows the cubic, and the chosen model's mode curves H(t)θ + μ_i match the truth.
 TEST(StructureSearch, FindsThreeModesAndACubicBias) {
   const auto truth = testing::mixture({-4.0, 0.0, 4.5}, {0.8, 0.7, 0.9}, {0.3, 0.3, 0.4});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(30000), kDistance,
-                                               cubic_bias, truth, 3);
+  const auto data = testing::draw_measurements(testing::cycling_temperature(30000),
+                                               kSyntheticDistanceMm, cubic_bias, truth, 3);
   const StructureChoice choice = search_on(data);
   EXPECT_EQ(choice.modes, 3);
   ASSERT_EQ(choice.basis.terms().size(), 1u);
@@ -49,8 +52,8 @@ TEST(StructureSearch, FindsThreeModesAndACubicBias) {
 // GLR (Algorithm 2) takes the largest candidate it saw.
 TEST(StructureSearch, KeepsTheSmallestModelThatPredictsAsWell) {
   const auto truth = testing::mixture({0.0}, {2.0}, {1.0});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(20000), kDistance,
-                                               linear_bias, truth, 5);
+  const auto data = testing::draw_measurements(testing::cycling_temperature(20000),
+                                               kSyntheticDistanceMm, linear_bias, truth, 5);
   const StructureChoice choice = search_on(data);
   EXPECT_EQ(choice.modes, 1);
   EXPECT_LE(choice.basis.terms()[0].order, 2);
@@ -62,8 +65,8 @@ TEST(StructureSearch, KeepsTheSmallestModelThatPredictsAsWell) {
 // A basis the user fixed is kept; only the number of modes is searched at it.
 TEST(StructureSearch, SearchesOnlyTheModesAtAGivenBasis) {
   const auto truth = testing::mixture({-2.5, 2.5}, {0.8, 0.8}, {0.5, 0.5});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(10000), kDistance,
-                                               cubic_bias, truth, 9);
+  const auto data = testing::draw_measurements(testing::cycling_temperature(10000),
+                                               kSyntheticDistanceMm, cubic_bias, truth, 9);
   StructureSearchOptions options;
   options.basis = Basis::polynomial(3, data.junction_temperature_c);
   const StructureChoice choice = search_on(data, options);
@@ -78,18 +81,18 @@ TEST(StructureSearch, SearchesOnlyTheModesAtAGivenBasis) {
 TEST(StructureSearch, SearchesTheFourierFamilyBeside) {
   const auto truth = testing::mixture({-2.0, 2.0}, {0.7, 0.7}, {0.5, 0.5});
   const auto data = testing::draw_measurements(
-      testing::cycling_temperature(20000), kDistance,
+      testing::cycling_temperature(20000), kSyntheticDistanceMm,
       [](double t) { return 3.0 * std::sin(2.0 * 3.14159265358979 * (t - 24.8) / 4.0); }, truth,
       13);
   StructureSearchOptions options;
-  const StructureChoice choice =
-      search_structure(data.junction_temperature_c, data.range.array() - kDistance, options);
+  const StructureChoice choice = search_structure(
+      data.junction_temperature_c, data.range.array() - kSyntheticDistanceMm, options);
   bool fourier_seen = false;
   for (const CandidateEvidence& e : choice.candidates) fourier_seen |= e.family == "fourier";
   EXPECT_TRUE(fourier_seen);
   // The fitted bias follows the true one up to a constant (which the mode offsets carry).
-  const Eigen::VectorXd fitted = choice.basis.design_matrix(data.junction_temperature_c) *
-                                 choice.fit.theta;
+  const Eigen::VectorXd fitted =
+      choice.basis.design_matrix(data.junction_temperature_c) * choice.fit.theta;
   const Eigen::VectorXd gap = fitted - data.true_bias;
   const double spread = std::sqrt((gap.array() - gap.mean()).square().mean());
   EXPECT_LT(spread, 0.05);
@@ -99,8 +102,8 @@ TEST(StructureSearch, SearchesTheFourierFamilyBeside) {
 // the other, every candidate's evidence and the choice are the same bit for bit.
 TEST(StructureSearch, GivesTheSameChoiceWhateverRunsTheFolds) {
   const auto truth = testing::mixture({-2.5, 0.0, 2.5}, {0.8, 0.6, 0.8}, {0.3, 0.4, 0.3});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(8000), kDistance,
-                                               cubic_bias, truth, 21);
+  const auto data = testing::draw_measurements(testing::cycling_temperature(8000),
+                                               kSyntheticDistanceMm, cubic_bias, truth, 21);
   StructureSearchOptions serial;
   serial.max_polynomial_order = 5;
   serial.max_modes = 3;
@@ -137,8 +140,8 @@ TEST(StructureSearch, GivesTheSameChoiceWhateverRunsTheFolds) {
 
 TEST(StructureSearch, RefusesTooFewRangesOrFolds) {
   const auto truth = testing::mixture({0.0}, {1.0}, {1.0});
-  const auto data = testing::draw_measurements(testing::cycling_temperature(60), kDistance,
-                                               linear_bias, truth, 1);
+  const auto data = testing::draw_measurements(testing::cycling_temperature(60),
+                                               kSyntheticDistanceMm, linear_bias, truth, 1);
   EXPECT_THROW(search_on(data), InvalidInput);
   StructureSearchOptions one_fold;
   one_fold.folds = 1;

@@ -43,17 +43,18 @@ Eigen::ArrayXd uniform(Eigen::Index n, double lo, double hi, unsigned seed) {
 }
 
 // Three overlapping modes on a cubic bias: y − d and H (a cubic's Legendre basis).
-struct Record {
+struct MixtureRecord {
   Eigen::VectorXd y;
   Eigen::MatrixXd h;
 };
-Record draw(const MixtureParameters& truth, Eigen::Index ranges, unsigned seed) {
-  const auto data = testing::draw_measurements(testing::cycling_temperature(ranges),
-                                               testing::kSyntheticDistanceMm, testing::cubic_bias,
-                                               truth, seed);
-  return {data.range.array() - testing::kSyntheticDistanceMm,
-          Basis::polynomial(3, data.junction_temperature_c)
-              .design_matrix(data.junction_temperature_c)};
+MixtureRecord draw_mixture_record(const MixtureParameters& truth, Eigen::Index ranges,
+                                  unsigned seed) {
+  const auto data =
+      testing::draw_measurements(testing::cycling_temperature(ranges),
+                                 testing::kSyntheticDistanceMm, testing::cubic_bias, truth, seed);
+  return {
+      data.range.array() - testing::kSyntheticDistanceMm,
+      Basis::polynomial(3, data.junction_temperature_c).design_matrix(data.junction_temperature_c)};
 }
 
 // exp, log and erfc agree element by element with the standard library's on both paths, for every
@@ -115,7 +116,7 @@ TEST_F(VectorMath, BothPathsKeepTheSpecialValues) {
 // the log-likelihood to 1e-12 relative, the responsibilities and the M-step's sums as closely.
 TEST_F(VectorMath, TheEStepsGiveTheSameLikelihoodOnEitherPath) {
   const auto truth = testing::mixture({-1.4, 0.0, 1.5}, {0.6, 0.55, 0.7}, {0.3, 0.4, 0.3});
-  const Record record = draw(truth, 20011, 7);
+  const MixtureRecord record = draw_mixture_record(truth, 20011, 7);
   const Eigen::VectorXd& y = record.y;
   const Eigen::MatrixXd& h = record.h;
   const Eigen::VectorXd theta = Eigen::VectorXd::Zero(h.cols());
@@ -148,13 +149,10 @@ TEST_F(VectorMath, TheEStepsGiveTheSameLikelihoodOnEitherPath) {
             kElementRelative);
   EXPECT_LE((avx2.sweep_responsibilities - portable.sweep_responsibilities).cwiseAbs().maxCoeff(),
             kElementRelative);
-  EXPECT_LE(((avx2.densities - portable.densities).array() / portable.densities.array())
-                .abs()
-                .maxCoeff(),
-            kElementRelative);
-  EXPECT_LE(((avx2.rounded - portable.rounded).array() / portable.rounded.array())
-                .abs()
-                .maxCoeff(),
+  EXPECT_LE(
+      ((avx2.densities - portable.densities).array() / portable.densities.array()).abs().maxCoeff(),
+      kElementRelative);
+  EXPECT_LE(((avx2.rounded - portable.rounded).array() / portable.rounded.array()).abs().maxCoeff(),
             kElementRelative);
   EXPECT_NEAR(avx2.rounded.sum(), portable.rounded.sum(),
               kSumRelative * std::abs(portable.rounded.sum()));
@@ -174,7 +172,7 @@ TEST_F(VectorMath, TheEStepsGiveTheSameLikelihoodOnEitherPath) {
 // A whole fit converges to the same maximum on either path.
 TEST_F(VectorMath, TrainingReachesTheSameMaximumOnEitherPath) {
   const auto truth = testing::mixture({-2.0, 0.0, 2.5}, {0.6, 0.55, 0.7}, {0.3, 0.4, 0.3});
-  const Record record = draw(truth, 12000, 11);
+  const MixtureRecord record = draw_mixture_record(truth, 12000, 11);
   const Eigen::VectorXd& y = record.y;
   const Eigen::MatrixXd& h = record.h;
   EmTrainOptions options;

@@ -8,6 +8,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/yaml_fields.hpp"
+#include "tests/support/file_text.hpp"
 
 namespace tofcomp::io {
 namespace {
@@ -35,13 +36,6 @@ std::string temp_file(const std::string& name) {
   return ::testing::TempDir() + "/" + test->test_suite_name() + "." + test->name() + "." + name;
 }
 
-std::string read_all(const std::string& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(CalibrationFile, RoundTripIsExact) {
   const std::string file = temp_file("calibration.yaml");
   const core::Calibration c = example();
@@ -59,7 +53,7 @@ TEST(CalibrationFile, RoundTripIsExact) {
   EXPECT_EQ(back.provenance.samples, 20000);
   // A second write of what was read is byte-identical.
   write_calibration_file(temp_file("calibration2.yaml"), back);
-  EXPECT_EQ(read_all(file), read_all(temp_file("calibration2.yaml")));
+  EXPECT_EQ(testing::file_text(file), testing::file_text(temp_file("calibration2.yaml")));
   // The same bias at any temperature.
   EXPECT_EQ(back.model.bias_at(27.3), c.model.bias_at(27.3));
 }
@@ -88,14 +82,14 @@ TEST(CalibrationFile, TrainedJunctionRangeRoundTrips) {
   core::Calibration c = example();
   write_calibration_file(file, c);
   EXPECT_FALSE(read_calibration_file(file).model.trained_junction_c.has_value());
-  EXPECT_EQ(read_all(file).find("trained_junction_c"), std::string::npos);
+  EXPECT_EQ(testing::file_text(file).find("trained_junction_c"), std::string::npos);
   c.model.trained_junction_c = core::TemperatureRange{24.8125, 28.6875};
   write_calibration_file(file, c);
   const core::Calibration back = read_calibration_file(file);
   ASSERT_TRUE(back.model.trained_junction_c.has_value());
   EXPECT_EQ(back.model.trained_junction_c->min_c, 24.8125);
   EXPECT_EQ(back.model.trained_junction_c->max_c, 28.6875);
-  const std::string inverted = replaced(read_all(file), "min: 24.8125", "min: 30");
+  const std::string inverted = replaced(testing::file_text(file), "min: 24.8125", "min: 30");
   std::ofstream(file) << inverted;
   EXPECT_THROW(read_calibration_file(file), YamlSchemaError);
 }
@@ -127,14 +121,16 @@ TEST(CalibrationFile, TrainingChoicesRoundTrip) {
   const std::string file = temp_file("calibration-choices.yaml");
   core::Calibration c = example();
   write_calibration_file(file, c);
-  EXPECT_EQ(read_all(file).find("choices"), std::string::npos);
+  EXPECT_EQ(testing::file_text(file).find("choices"), std::string::npos);
   EXPECT_FALSE(read_calibration_file(file).choices.structure.has_value());
   c.choices.kalman_noise = core::KalmanNoiseRecord{"innovations", {"junction_process"}};
-  c.choices.structure = core::StructureRecord{
-      "held-out", "polynomial(3, legendre), 2 modes", "polynomial(9, legendre), 2 modes",
-      "polynomial(4, legendre), 2 modes",
-      {{"polynomial(3, legendre), 2 modes", 8, -2.25, 35853.5, 435836.25},
-       {"polynomial(9, legendre), 2 modes", 14, -2.2501, 35900.0, 435900.0}}};
+  c.choices.structure =
+      core::StructureRecord{"held-out",
+                            "polynomial(3, legendre), 2 modes",
+                            "polynomial(9, legendre), 2 modes",
+                            "polynomial(4, legendre), 2 modes",
+                            {{"polynomial(3, legendre), 2 modes", 8, -2.25, 35853.5, 435836.25},
+                             {"polynomial(9, legendre), 2 modes", 14, -2.2501, 35900.0, 435900.0}}};
   c.choices.junction_dynamics =
       core::JunctionDynamicsRecord{"ranges", true, 4.25, 31.5, 1.875, 10.8, 0.0125, true};
   write_calibration_file(file, c);
@@ -151,8 +147,9 @@ TEST(CalibrationFile, TrainingChoicesRoundTrip) {
   EXPECT_EQ(j.block_p, 0.0125);
   EXPECT_TRUE(j.junction_noise_held);
   // A calibration written before the ranges judged q_j reads as not held.
-  const std::string older = replaced(read_all(file), "    junction_noise_held: true\n", "");
-  ASSERT_NE(older, read_all(file));
+  const std::string older =
+      replaced(testing::file_text(file), "    junction_noise_held: true\n", "");
+  ASSERT_NE(older, testing::file_text(file));
   std::ofstream(file) << older;
   EXPECT_FALSE(read_calibration_file(file).choices.junction_dynamics->junction_noise_held);
   write_calibration_file(file, c);
@@ -163,7 +160,8 @@ TEST(CalibrationFile, TrainingChoicesRoundTrip) {
   ASSERT_EQ(s.candidates.size(), 2u);
   EXPECT_EQ(s.candidates[1].parameters, 14);
   EXPECT_EQ(s.candidates[0].bic, 435836.25);
-  const std::string broken = replaced(read_all(file), "parameters: 14", "parameters: fourteen");
+  const std::string broken =
+      replaced(testing::file_text(file), "parameters: 14", "parameters: fourteen");
   std::ofstream(file) << broken;
   try {
     read_calibration_file(file);
@@ -200,7 +198,9 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   core::Term lag = term(core::Parameter::Bias, core::Covariate::JunctionLag, core::Form::Linear);
   lag.time_constant_s = 1000.0 / 3.0;
   lag.scale = 0.25;
-  e.effects = {smooth.label(), offset.label(), lag.label(),
+  e.effects = {smooth.label(),
+               offset.label(),
+               lag.label(),
                {core::Parameter::Weights, core::Covariate::TimeSincePowerOn},
                {core::Parameter::Spread, core::Covariate::JunctionTemperature},
                {core::Parameter::Outliers, core::Covariate::None}};
@@ -211,11 +211,13 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   core::Term weights =
       term(core::Parameter::Weights, core::Covariate::TimeSincePowerOn, core::Form::Bins);
   weights.knots = Eigen::Vector2d(120.0, 900.5);
-  e.extended_mixture.weight_bins = core::NoiseBins{weights, Eigen::MatrixXd::Constant(3, 2, 0.5), {}, {}};
+  e.extended_mixture.weight_bins =
+      core::NoiseBins{weights, Eigen::MatrixXd::Constant(3, 2, 0.5), {}, {}};
   core::Term spread =
       term(core::Parameter::Spread, core::Covariate::JunctionTemperature, core::Form::Bins);
   spread.knots = Eigen::Vector2d(25.5, 27.25);
-  e.extended_mixture.variance_bins = core::NoiseBins{spread, Eigen::MatrixXd::Constant(3, 2, 0.7), {}, {}};
+  e.extended_mixture.variance_bins =
+      core::NoiseBins{spread, Eigen::MatrixXd::Constant(3, 2, 0.7), {}, {}};
   e.extended_mixture.variance_bins->table(2, 1) = 1.0 / 7.0;
   e.extended_mixture.outlier_weight = 0.015;
   e.extended_mixture.outlier_density = 1.0 / 180.0;
@@ -249,10 +251,11 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   EXPECT_EQ(x.extended_mixture.modes.mean, c.model.mixture.mean);
   // The same file again, byte for byte.
   write_calibration_file(temp_file("extended2.yaml"), back);
-  EXPECT_EQ(read_all(file), read_all(temp_file("extended2.yaml")));
+  EXPECT_EQ(testing::file_text(file), testing::file_text(temp_file("extended2.yaml")));
 
   // A parametric spread (a decay after power-on): its intercepts and slopes, its table again.
-  core::Term decay = term(core::Parameter::Spread, core::Covariate::TimeSincePowerOn, core::Form::Decay);
+  core::Term decay =
+      term(core::Parameter::Spread, core::Covariate::TimeSincePowerOn, core::Form::Decay);
   decay.time_constant_s = 300.0;
   decay.knots.resize(core::kNoiseLevels - 1);
   for (int j = 1; j < core::kNoiseLevels; ++j) decay.knots[j - 1] = 60.0 * j;
@@ -264,7 +267,8 @@ TEST(CalibrationFile, ExtensionRoundTripIsExact) {
   slopes.extended_mixture.variance_bins->refresh_table();
   c.extension = slopes;
   write_calibration_file(file, c);
-  const core::NoiseBins read = *read_calibration_file(file).extension->extended_mixture.variance_bins;
+  const core::NoiseBins read =
+      *read_calibration_file(file).extension->extended_mixture.variance_bins;
   EXPECT_EQ(read.intercept, slopes.extended_mixture.variance_bins->intercept);
   EXPECT_EQ(read.slope, slopes.extended_mixture.variance_bins->slope);
   EXPECT_EQ(read.table, slopes.extended_mixture.variance_bins->table);
@@ -383,7 +387,8 @@ TEST(CalibrationFile, ExtensionErrorsNameTheKey) {
   c.extension->extended_mixture.transition =
       (Eigen::Matrix2d() << 0.875, 0.125, 0.25, 0.75).finished();
   const std::string good = calibration_to_yaml(c);
-  const std::string bad_parameter = error_of(replaced(good, "parameter: markov", "parameter: gremlins"));
+  const std::string bad_parameter =
+      error_of(replaced(good, "parameter: markov", "parameter: gremlins"));
   EXPECT_NE(bad_parameter.find("'gremlins' is not a parameter of Eq. 8"), std::string::npos)
       << bad_parameter;
   EXPECT_NE(bad_parameter.find("extension.effects[1]"), std::string::npos) << bad_parameter;
@@ -399,8 +404,9 @@ TEST(CalibrationFile, ExtensionErrorsNameTheKey) {
             std::string::npos)
       << error_of(replaced(good, "covariate: time_since_power_on\n      form",
                            "covariate: moon_phase\n      form"));
-  EXPECT_NE(error_of(replaced(good, "coefficients_mm", "coefficients_inch")).find("coefficients_inch"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(replaced(good, "coefficients_mm", "coefficients_inch")).find("coefficients_inch"),
+      std::string::npos);
   // A decay needs its time constant.
   EXPECT_NE(error_of(replaced(good, "      time_constant_s: 240\n", ""))
                 .find("needs a positive time constant"),
@@ -414,7 +420,7 @@ TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
   const std::string file = dir + "/target.txt";
   write_file_atomically(file, "old");
   write_file_atomically(file, "new contents");
-  EXPECT_EQ(read_all(file), "new contents");
+  EXPECT_EQ(testing::file_text(file), "new contents");
   int entries = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++entries;
   EXPECT_EQ(entries, 1);

@@ -12,8 +12,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "ipc/ring/ring_writer.hpp"
 #include "ipc/compensated_scan.hpp"
+#include "ipc/ring/ring_writer.hpp"
 
 namespace tofcomp::test {
 

@@ -20,6 +20,13 @@ inline double cubic_bias(double t) {
   return -4.0 * x + 0.8 * x * x + 0.35 * x * x * x;
 }
 
+// The normal density N(x; mean, variance), written out here as the tests' own reference for the
+// mixture's component densities (Eq. 9).
+inline double normal_pdf(double x, double mean, double variance) {
+  return std::exp(-0.5 * (x - mean) * (x - mean) / variance) /
+         std::sqrt(2.0 * std::numbers::pi * variance);
+}
+
 struct SyntheticMeasurements {
   Eigen::VectorXd junction_temperature_c;
   Eigen::VectorXd range;      // y_k

@@ -21,9 +21,9 @@ inline const std::filesystem::path kSocketParent = "/tmp";
 class TemporaryDirectory {
  public:
   // A directory named `prefix` and six random characters, under `parent`.
-  explicit TemporaryDirectory(std::string_view prefix = "tofcomp-test",
-                              const std::filesystem::path& parent =
-                                  std::filesystem::temp_directory_path()) {
+  explicit TemporaryDirectory(
+      std::string_view prefix = "tofcomp-test",
+      const std::filesystem::path& parent = std::filesystem::temp_directory_path()) {
     std::string pattern = (parent / (std::string(prefix) + "-XXXXXX")).string();
     if (::mkdtemp(pattern.data()) == nullptr) {
       throw std::runtime_error("cannot create " + pattern + ": " + std::strerror(errno));

@@ -17,6 +17,7 @@
 #include "ipc/socket/client.hpp"
 #include "tests/daemon/e2e/daemon_process.hpp"
 #include "tests/daemon/e2e/e2e_config.hpp"
+#include "tests/support/file_text.hpp"
 
 namespace tofcomp::test {
 namespace {
@@ -27,13 +28,6 @@ using Clock = std::chrono::steady_clock;
 constexpr int kCycles = 3;
 constexpr double kOnS = 4.0;
 constexpr double kOffS = 2.0;
-
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Replaces the one occurrence of `from` in `text`.
 void replace(std::string& text, const std::string& from, const std::string& to) {
@@ -47,7 +41,7 @@ void replace(std::string& text, const std::string& from, const std::string& to) 
 // than the sensor is read, and the run's C1 undetermined (training then fails, saying so).
 std::filesystem::path small_scanner_scenario(const std::filesystem::path& dir) {
   std::string scenario =
-      read_file(std::string(TOFCOMP_SOURCE_ROOT) + "/config/scenarios/default.yaml");
+      testing::file_text(std::string(TOFCOMP_SOURCE_ROOT) + "/config/scenarios/default.yaml");
   replace(scenario, "c1_j_per_k: 60.0", "c1_j_per_k: 6.0");
   replace(scenario, "c2_j_per_k: 2000.0", "c2_j_per_k: 20.0");
   replace(scenario, "noise_std_c: 0.02", "noise_std_c: 0.002");
@@ -61,7 +55,7 @@ std::filesystem::path small_scanner_scenario(const std::filesystem::path& dir) {
 // 100 times smaller than the LMS 200's.
 std::filesystem::path small_scanner_datasheet(const std::filesystem::path& dir) {
   std::string datasheet =
-      read_file(std::string(TOFCOMP_SOURCE_ROOT) + "/config/lms200-datasheet.yaml");
+      testing::file_text(std::string(TOFCOMP_SOURCE_ROOT) + "/config/lms200-datasheet.yaml");
   replace(datasheet, "c1_j_per_k: 60.0", "c1_j_per_k: 6.0");
   replace(datasheet, "mass_kg: 2.5", "mass_kg: 0.025");
   const auto path = dir / "small-scanner-datasheet.yaml";

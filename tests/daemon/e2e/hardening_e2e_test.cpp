@@ -30,6 +30,7 @@
 #include "ipc/socket/client.hpp"
 #include "tests/daemon/e2e/daemon_process.hpp"
 #include "tests/daemon/e2e/e2e_config.hpp"
+#include "tests/support/file_text.hpp"
 #include "tests/support/planted_ring.hpp"
 
 namespace tofcomp::test {
@@ -42,13 +43,6 @@ using nlohmann::json;
 constexpr uid_t kNobody = 65534;  // Debian's nobody: neither root nor the test's user
 // The bound docs/daemon.md states for SIGTERM to end the daemon, training or not.
 constexpr auto kStopBound = 5s;
-
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 void replace_all(std::string& text, const std::string& from, const std::string& to) {
   for (std::size_t at = text.find(from); at != std::string::npos;
@@ -63,7 +57,7 @@ void replace_all(std::string& text, const std::string& from, const std::string& 
 void simulate(const std::filesystem::path& dir, const std::filesystem::path& file,
               const std::string& range_period_s = "1.08") {
   std::string scenario =
-      read_file(std::string(TOFCOMP_SOURCE_ROOT) + "/config/scenarios/default.yaml");
+      testing::file_text(std::string(TOFCOMP_SOURCE_ROOT) + "/config/scenarios/default.yaml");
   replace_all(scenario, "range_period_s: 1.08", "range_period_s: " + range_period_s);
   write_file(dir / "scenario.yaml", scenario);
   const std::string command = std::string(TOFCOMP_BINARY) + " -q simulate " +
@@ -177,7 +171,7 @@ TEST(DaemonHardening, RecordingsAClientNamesAreCheckedBeforeTheyAreRead) {
 TEST(DaemonHardening, ControlIsRefusedToAnotherUser) {
   if (::geteuid() != 0) GTEST_SKIP() << "needs root to run a client as another user";
   HardenedDaemon d("peer", "", "");
-  std::string text = read_file(d.config);
+  std::string text = testing::file_text(d.config);
   replace_all(text, "  socket:\n", "  socket:\n    mode: \"0666\"\n");
   write_file(d.config, text);
   ASSERT_EQ(::chmod(d.dir.path().c_str(), 0755), 0);
@@ -228,7 +222,7 @@ TEST(DaemonHardening, AnImpossibleReferenceDistanceFailsTrainingNamingItsLine) {
   simulate(d.dir.path(), d.recordings / "bench.csv");
   // One row's reference distance is -3000 mm (the row that gives it; it holds for the rows
   // after it, as the format's reference distance does).
-  std::string data = read_file(d.recordings / "bench.csv");
+  std::string data = testing::file_text(d.recordings / "bench.csv");
   const std::size_t row = data.find(",3000\n");
   ASSERT_NE(row, std::string::npos);
   data.replace(row, 6, ",-3000\n");
@@ -252,10 +246,10 @@ TEST(DaemonHardening, AnImpossibleReferenceDistanceFailsTrainingNamingItsLine) {
 TEST(DaemonHardening, ACalibrationTrainedOnAWrongReferenceIsNotSwappedIn) {
   HardenedDaemon d("poisoned");
   simulate(d.dir.path(), d.recordings / "bench.csv");
-  std::string data = read_file(d.recordings / "bench.csv");
+  std::string data = testing::file_text(d.recordings / "bench.csv");
   replace_all(data, ",3000\n", ",3500\n");  // every reference 500 mm off
   write_file(d.recordings / "poisoned.csv", data);
-  const std::string before = read_file(d.dir.path() / "calibration.yaml");
+  const std::string before = testing::file_text(d.dir.path() / "calibration.yaml");
   d.start();
   ASSERT_TRUE(recalibrate(d, "poisoned.csv").value("ok", false));
   const json s = d.wait_for_status([](const json& st) {
@@ -270,7 +264,7 @@ TEST(DaemonHardening, ACalibrationTrainedOnAWrongReferenceIsNotSwappedIn) {
   EXPECT_NE(state.find("calibration 1 stays"), std::string::npos) << state;
   EXPECT_EQ(s["calibration"]["id"], 1);
   // The file on disk is the one the daemon started with: nothing poisoned survives a restart.
-  EXPECT_EQ(read_file(d.dir.path() / "calibration.yaml"), before);
+  EXPECT_EQ(testing::file_text(d.dir.path() / "calibration.yaml"), before);
   // A good recording still recalibrates.
   ASSERT_TRUE(recalibrate(d, "bench.csv").value("ok", false));
   const json good = d.wait_for_status(
@@ -364,7 +358,7 @@ TEST(DaemonHardening, OneDaemonPerSocketByItsLockNotItsPid) {
   HardenedDaemon d("lock");
   d.start();
   // A second daemon on the same socket (another ring name) does not start.
-  std::string second = read_file(d.config);
+  std::string second = testing::file_text(d.config);
   replace_all(second, d.shm, d.shm + "-second");
   write_file(d.dir.path() / "second.yaml", second);
   DaemonProcess other(d.dir.path() / "second.yaml", d.dir.path() / "second.log");
@@ -372,8 +366,7 @@ TEST(DaemonHardening, OneDaemonPerSocketByItsLockNotItsPid) {
   while (other.running() && Clock::now() < until) std::this_thread::sleep_for(50ms);
   EXPECT_FALSE(other.running());
   EXPECT_NE(other.log().find("another tofcompd (pid "), std::string::npos) << other.log();
-  EXPECT_NE(other.log().find("runs with the socket " + d.socket().string()),
-            std::string::npos)
+  EXPECT_NE(other.log().find("runs with the socket " + d.socket().string()), std::string::npos)
       << other.log();
   // Killed with SIGKILL, the first leaves its lock file and ring behind; the next start takes
   // both over at once.
@@ -437,7 +430,7 @@ TEST(DaemonHardening, StaleTemporariesOfInterruptedWritesGoAtStart) {
 // kinds add up to the total, and the link recovers from all of them (issue 53, item 2).
 TEST(DaemonHardening, TheBuiltInLinkRecoversFromEveryFaultTheEmulatorInjects) {
   HardenedDaemon d("faults");
-  std::string text = read_file(d.config);
+  std::string text = testing::file_text(d.config);
   replace_all(text, "  time_scale: 1.0\n",
               "  time_scale: 1.0\n"
               "  faults: {garbage: 0.01, dropped_byte: 0.01, corrupted_crc: 0.01, stall: 0.01,\n"
@@ -495,7 +488,7 @@ TEST(DaemonHardening, CheckConfigLoadsEveryFileItNames) {
       << valid;
 
   const auto broken = [&](const std::string& from, const std::string& to) {
-    std::string text = read_file(d.config);
+    std::string text = testing::file_text(d.config);
     replace_all(text, from, to);
     write_file(d.dir.path() / "broken.yaml", text);
     return check_config(d.dir.path() / "broken.yaml");
@@ -517,7 +510,7 @@ TEST(DaemonHardening, CheckConfigLoadsEveryFileItNames) {
   EXPECT_NE(e.find("recalibration.datasheet"), std::string::npos) << e;
   // A calibration the gate of a recalibration would refuse is no calibration to start with
   // either: a calibration file with a key given twice.
-  std::string calibration = read_file(d.dir.path() / "calibration.yaml");
+  std::string calibration = testing::file_text(d.dir.path() / "calibration.yaml");
   replace_all(calibration, "version: 1\n", "version: 1\nversion: 1\n");
   write_file(d.dir.path() / "twice.yaml", calibration);
   const auto [twice, f] = broken("file: calibration.yaml", "file: twice.yaml");
@@ -525,7 +518,7 @@ TEST(DaemonHardening, CheckConfigLoadsEveryFileItNames) {
   EXPECT_NE(f.find("version is given twice"), std::string::npos) << f;
   // A calibration whose file passes its own checks but which describes no scanner (a junction
   // capacity of 1e-300 J/K: 26,607 mm published for a raw 3,001 mm): refused, naming why.
-  std::string no_scanner = read_file(d.dir.path() / "calibration.yaml");
+  std::string no_scanner = testing::file_text(d.dir.path() / "calibration.yaml");
   const std::size_t c1 = no_scanner.find("c1_j_per_k: ");
   ASSERT_NE(c1, std::string::npos);
   no_scanner.replace(c1, no_scanner.find('\n', c1) - c1, "c1_j_per_k: 1e-300");

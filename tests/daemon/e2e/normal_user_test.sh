@@ -7,12 +7,19 @@
 # another user, as that user.
 # Usage: normal_user_test.sh TOFCOMPD TOFCOMP
 set -euo pipefail
-tofcompd=$1
-tofcomp=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 work=$(mktemp -d /tmp/tofcomp-normal-user.XXXXXX)
 chmod 755 "$work"
+# The programs are run from a copy the user can reach, laid out as the build tree is (their data
+# in ../share/tofcomp): the build tree may lie where only its owner may go (a home folder, a
+# 0700 temporary folder).
+mkdir -m 755 "$work/bin"
+install -m 755 "$1" "$2" "$work/bin/"
+cp -r "$(dirname "$1")/../share" "$work/"
+chmod -R a+rX "$work/share"
+tofcompd="$work/bin/$(basename "$1")"
+tofcomp="$work/bin/$(basename "$2")"
 daemon=""
 cleanup() {
   [ -n "$daemon" ] && kill "$daemon" 2>/dev/null || true

@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "io/measured_data_csv.hpp"
+#include "tests/support/file_text.hpp"
 #include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::daemon {
@@ -31,13 +32,6 @@ realtime::RawScan scan_at(double time_s) {
   scan.ranges_mm.assign(kBeams, 3000.0);
   scan.no_echo.assign(kBeams, 0);
   return scan;
-}
-
-std::string contents(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 // The name the recorder gives a rotation's file opened at `t` (UTC, to the second).
@@ -60,8 +54,8 @@ TEST(Recorder, ARotationsFileIsNeverOpenedThroughAPlantedSymlink) {
     std::filesystem::create_symlink(target, dir.path() / stamped_name(t));
   }
   {
-    Recorder recorder({.directory = dir.path(), .max_rows = std::nullopt,
-                       .max_minutes = std::nullopt});
+    Recorder recorder(
+        {.directory = dir.path(), .max_rows = std::nullopt, .max_minutes = std::nullopt});
     recorder.case_reading(0.0, 30.0);
     recorder.scan(scan_at(0.1));
     const std::filesystem::path file = recorder.current_file();
@@ -69,7 +63,7 @@ TEST(Recorder, ARotationsFileIsNeverOpenedThroughAPlantedSymlink) {
     EXPECT_NE(file.filename().string().find("-1.csv"), std::string::npos) << file;
     EXPECT_EQ(io::read_measured_data_file(file).rows.size(), 1 + kBeams);
   }
-  EXPECT_EQ(contents(target), kPrecious);
+  EXPECT_EQ(testing::file_text(target), kPrecious);
 }
 
 TEST(Recorder, ANamedFileReplacesAPlantedSymlinkNotItsTarget) {
@@ -80,12 +74,14 @@ TEST(Recorder, ANamedFileReplacesAPlantedSymlinkNotItsTarget) {
   const std::filesystem::path named = dir.path() / "power_cycle_run.recording";
   std::filesystem::create_symlink(target, named);
   {
-    Recorder recorder({.directory = dir.path(), .max_rows = std::nullopt,
-                       .max_minutes = std::nullopt, .file_name = named.filename()});
+    Recorder recorder({.directory = dir.path(),
+                       .max_rows = std::nullopt,
+                       .max_minutes = std::nullopt,
+                       .file_name = named.filename()});
     recorder.case_reading(0.0, 30.0);
     recorder.scan(scan_at(0.1));
   }
-  EXPECT_EQ(contents(target), kPrecious);
+  EXPECT_EQ(testing::file_text(target), kPrecious);
   EXPECT_FALSE(std::filesystem::is_symlink(named));
   EXPECT_EQ(io::read_measured_data_file(named).rows.size(), 1 + kBeams);
   // Nothing but the recording is left beside it (no temporary file).
@@ -104,8 +100,8 @@ TEST(Recorder, AFailedWriteNamesTheErrorCutsTheFileAtItsLastWholeScanAndRecordin
   std::filesystem::path resumed;
   std::string message;
   {
-    Recorder recorder({.directory = dir.path(), .max_rows = std::nullopt,
-                       .max_minutes = std::nullopt});
+    Recorder recorder(
+        {.directory = dir.path(), .max_rows = std::nullopt, .max_minutes = std::nullopt});
     recorder.case_reading(0.0, 30.0);
     recorder.scan(scan_at(0.1));  // opens the file before the limit
     file = recorder.current_file();

@@ -18,6 +18,7 @@
 
 #include "core/error.hpp"
 #include "tests/daemon/service/environment_guard.hpp"
+#include "tests/support/file_text.hpp"
 #include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::daemon::service {
@@ -29,13 +30,6 @@ std::string device_inode_of(int fd) {
   struct stat st {};
   EXPECT_EQ(::fstat(fd, &st), 0);
   return std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
-}
-
-std::string read_all(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // Points the process's stderr (fd 2) at a file for the guard's lifetime.
@@ -119,7 +113,7 @@ TEST(ConfigureLogging, StderrGetsMessagesAtOrAboveTheLevel) {
     spdlog::warn("sensor silent for {} s", 3);
     spdlog::default_logger()->flush();
   }
-  const std::string text = read_all(file);
+  const std::string text = testing::file_text(file);
   EXPECT_EQ(text.find("debug line"), std::string::npos) << text;
   EXPECT_NE(text.find(" info calibration loaded from /etc/tofcompd/calibration.yaml\n"),
             std::string::npos)

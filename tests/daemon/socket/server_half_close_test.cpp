@@ -19,8 +19,6 @@ using ipc::socket::SocketClient;
 using ipc::socket::SocketClosed;
 using nlohmann::json;
 
-constexpr auto kTimeout = 30s;
-
 void shut_sending_side(SocketClient& client) {
   ASSERT_EQ(::shutdown(client.native_handle(), SHUT_WR), 0);
 }
@@ -62,9 +60,8 @@ TEST(ServerHalfClose, LongRepliesAreWrittenWholeAndALastLineWithoutLineEndIsAnsw
   requests.pop_back();  // the last line's '\n'
   client.send_bytes(requests);
   shut_sending_side(client);
-  expect_replies_then_the_end(client, kRequests, [](const json& reply) {
-    EXPECT_EQ(reply["scan"]["beams"].size(), 361u);
-  });
+  expect_replies_then_the_end(
+      client, kRequests, [](const json& reply) { EXPECT_EQ(reply["scan"]["beams"].size(), 361u); });
 }
 
 TEST(ServerHalfClose, ASubscriberThatShutsItsSideGoesOnReceivingUntilItCloses) {

@@ -21,7 +21,6 @@ using ipc::socket::SocketClient;
 using ipc::socket::SocketClosed;
 using nlohmann::json;
 
-constexpr auto kTimeout = 30s;
 constexpr uid_t kNobody = 65534;  // Debian's nobody: a user that is neither root nor this one
 
 TEST(ServerAuthorization, ControlIsForbiddenToUsersNotAllowedReadingIsNot) {

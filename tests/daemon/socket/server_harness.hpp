@@ -25,6 +25,9 @@ namespace tofcomp::test {
 
 namespace sock = tofcomp::daemon::socket;
 
+// How long a test waits for an answer or an event before it fails.
+inline constexpr auto kTimeout = std::chrono::seconds(30);
+
 // The fake daemon: answers from fields the test sets (before the server runs, or on its
 // thread through SocketHarness::on_io).
 class FakeDaemon : public sock::SocketRequestHandler {

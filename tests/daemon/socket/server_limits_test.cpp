@@ -1,7 +1,6 @@
 // The server's limits: an over-long request is answered too_long and its connection closed
 // cleanly after the answer; clients beyond max_clients get an error line and are closed.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,8 +15,6 @@ using namespace std::chrono_literals;
 using ipc::socket::SocketClient;
 using ipc::socket::SocketClosed;
 using nlohmann::json;
-
-constexpr auto kTimeout = 30s;
 
 // The next read ends the stream: end of file, not a reset.
 void expect_clean_close(SocketClient& client) {

@@ -13,8 +13,6 @@ using namespace std::chrono_literals;
 using ipc::socket::SocketClient;
 using nlohmann::json;
 
-constexpr auto kTimeout = 30s;
-
 TEST(ServerRequests, LatestBeforeAnyScanIsUnavailable) {
   SocketHarness h;
   h.start_server();
@@ -125,8 +123,9 @@ TEST(ServerRequests, MalformedLinesGetErrorsAndTheConnectionSurvives) {
   client.send_line(R"({"id":2,"op":"fetch"})");
   EXPECT_EQ(read_json_line(client, kTimeout)["error"]["code"], "unknown_op");
   client.send_line(R"({"id":3,"op":"subscribe","every":0})");
-  EXPECT_EQ(read_json_line(client, kTimeout), json::parse(R"({"id":3,"ok":false,"error":{"code":"bad_range",)"
-                                           R"("message":"every: 0 is outside 1..1000000"}})"));
+  EXPECT_EQ(read_json_line(client, kTimeout),
+            json::parse(R"({"id":3,"ok":false,"error":{"code":"bad_range",)"
+                        R"("message":"every: 0 is outside 1..1000000"}})"));
   // Blank lines are skipped; a '\r' before the '\n' is allowed.
   client.send_bytes("\n\r\n{\"id\":4,\"op\":\"status\"}\r\n");
   EXPECT_EQ(read_json_line(client, kTimeout)["id"], 4);

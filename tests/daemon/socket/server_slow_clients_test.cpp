@@ -24,7 +24,6 @@ using nlohmann::json;
 constexpr std::uint64_t kScans = 2000;
 constexpr std::size_t kClients = 100;
 constexpr std::uint64_t kAhead = 4;  // scans the publisher runs ahead of the slowest reader
-constexpr auto kTimeout = 30s;
 
 // The sequence of a scan event line, read without parsing the whole line.
 std::uint64_t sequence_of(const std::string& line) {

@@ -23,8 +23,6 @@ using namespace std::chrono_literals;
 using ipc::socket::SocketClient;
 using ipc::socket::SocketClosed;
 
-constexpr auto kTimeout = 30s;
-
 // A socket file nobody listens on, as a daemon that died leaves it.
 void make_stale_socket(const std::string& path) {
   const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);

@@ -16,8 +16,6 @@ using ipc::socket::ScanSubscription;
 using ipc::socket::SocketClient;
 using nlohmann::json;
 
-constexpr auto kTimeout = 30s;
-
 // Room for every scan these tests publish before their subscribers read: 100 full scans of
 // about 90 KB each (the bound itself is tested in server_slow_clients_test.cpp).
 sock::SocketServerSettings roomy() {
@@ -78,8 +76,8 @@ TEST(ServerSubscribe, CompactFramesCarryTheScansBesideJsonLines) {
   h.start_server();
   SocketClient compact(h.path(), kTimeout);
   SocketClient lines(h.path(), kTimeout);
-  const json ack = compact.call(
-      json{{"op", "subscribe"}, {"beams", {10, 12}}, {"format", "compact"}}, kTimeout);
+  const json ack =
+      compact.call(json{{"op", "subscribe"}, {"beams", {10, 12}}, {"format", "compact"}}, kTimeout);
   EXPECT_EQ(ack["subscription"], json::parse(R"({"beams":[10,12],"every":1,"format":"compact"})"));
   ScanSubscription as_json(lines, BeamRange{10, 12}, 1, kTimeout);
   for (std::uint64_t seq = 0; seq < 5; ++seq) h.publish(make_scan(seq));
@@ -92,8 +90,7 @@ TEST(ServerSubscribe, CompactFramesCarryTheScansBesideJsonLines) {
     const auto frame = ipc::socket::decode_compact_frame(message->frame);
     EXPECT_EQ(frame.scan.sequence, seq);
     EXPECT_EQ(frame.span, (ipc::socket::BeamSpan{10, 3}));
-    EXPECT_EQ(frame.scan.beams[12].compensated_mm,
-              static_cast<float>(raw_of(seq, 12) - 12.5));
+    EXPECT_EQ(frame.scan.beams[12].compensated_mm, static_cast<float>(raw_of(seq, 12) - 12.5));
     EXPECT_EQ(next_scan(as_json)["sequence"], seq);
   }
   EXPECT_EQ(h.counters().scan_encodings, 5u * 2u);

@@ -19,7 +19,7 @@ using testing::known_scan;
 using testing::ScopedRingName;
 
 constexpr std::uint64_t kScans = 50;
-constexpr std::uint32_t kSlots = 64;  // holds them all: a late child loses none
+constexpr std::uint32_t kSlotsForEveryScan = 64;  // holds them all: a late child loses none
 
 // Exit codes of the child, so that a failure says what went wrong.
 enum ChildResult {
@@ -56,7 +56,7 @@ int read_in_child(const std::string& name) {
 
 TEST(RingProcess, ForkedChildReadsWhatTheParentWrites) {
   const ScopedRingName name("fork");
-  RingWriter writer(name, kSlots, 361);
+  RingWriter writer(name, kSlotsForEveryScan, 361);
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) ::_exit(read_in_child(name));

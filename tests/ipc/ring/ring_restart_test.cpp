@@ -15,17 +15,8 @@ namespace {
 
 using testing::difference;
 using testing::known_scan;
+using testing::run_in_child;
 using testing::ScopedRingName;
-
-// Runs `child` in a forked process and returns its exit status (or -1 if it did not exit).
-template <class Child>
-int run_in_child(Child child) {
-  const pid_t pid = ::fork();
-  if (pid == 0) ::_exit(child());
-  int status = 0;
-  if (pid < 0 || ::waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
-  return WEXITSTATUS(status);
-}
 
 TEST(RingRestart, ReaderFollowsARingRecreatedAfterACleanClose) {
   const ScopedRingName name("clean");

@@ -6,12 +6,14 @@
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -90,15 +92,14 @@ inline std::string difference(const CompensatedScan& got, const CompensatedScan&
   if (got.rays.interlaced_turns != want.rays.interlaced_turns) {
     return "rays.interlaced_turns differs";
   }
-  for (const std::string& d : {scalar("junction_c", got.junction_c, want.junction_c),
-                               scalar("junction_std_c", got.junction_std_c, want.junction_std_c),
-                               scalar("case_c", got.case_c, want.case_c),
-                               scalar("start_angle_deg", got.start_angle_deg, want.start_angle_deg),
-                               scalar("resolution_deg", got.resolution_deg, want.resolution_deg),
-                               scalar("rays.ray_interval_ns", got.rays.ray_interval_ns,
-                                      want.rays.ray_interval_ns),
-                               scalar("rays.turn_period_ns", got.rays.turn_period_ns,
-                                      want.rays.turn_period_ns)}) {
+  for (const std::string& d :
+       {scalar("junction_c", got.junction_c, want.junction_c),
+        scalar("junction_std_c", got.junction_std_c, want.junction_std_c),
+        scalar("case_c", got.case_c, want.case_c),
+        scalar("start_angle_deg", got.start_angle_deg, want.start_angle_deg),
+        scalar("resolution_deg", got.resolution_deg, want.resolution_deg),
+        scalar("rays.ray_interval_ns", got.rays.ray_interval_ns, want.rays.ray_interval_ns),
+        scalar("rays.turn_period_ns", got.rays.turn_period_ns, want.rays.turn_period_ns)}) {
     if (!d.empty()) return d;
   }
   if (got.beams.size() != want.beams.size()) {
@@ -172,6 +173,19 @@ inline void create_raw_object(const std::string& name, std::size_t bytes,
     throw std::runtime_error("create_raw_object: cannot fill " + name);
   }
   ::close(fd);
+}
+
+// Runs `child` in a forked process (as user `uid` when given) and returns its exit status.
+template <class Child>
+int run_in_child(Child child, std::optional<uid_t> uid = std::nullopt) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (uid && (::setgid(*uid) != 0 || ::setuid(*uid) != 0)) ::_exit(100);
+    ::_exit(child());
+  }
+  int status = 0;
+  if (pid < 0 || ::waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
 }
 
 }  // namespace tofcomp::ipc::ring::testing

@@ -28,23 +28,11 @@ namespace {
 
 using testing::difference;
 using testing::known_scan;
+using testing::run_in_child;
 using testing::ScopedRingName;
 
 constexpr uid_t kNobody = tofcomp::test::PlantedRing::kNobody;
-constexpr pid_t kInit = 1;        // a process that always runs
-
-// Runs `child` in a forked process (as user `uid` when given) and returns its exit status.
-template <class Child>
-int run_in_child(Child child, std::optional<uid_t> uid = std::nullopt) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    if (uid && (::setgid(*uid) != 0 || ::setuid(*uid) != 0)) ::_exit(100);
-    ::_exit(child());
-  }
-  int status = 0;
-  if (pid < 0 || ::waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
-  return WEXITSTATUS(status);
-}
+constexpr pid_t kInit = 1;  // a process that always runs
 
 // A writer in a child process publishes `scans` known scans and ends without closing its ring
 // (as a crash or kill -9 leaves it).
@@ -104,18 +92,18 @@ std::optional<std::string> with_small_shm(const char* size, std::string (*body)(
     ::close(pipe_fds[0]);
     const auto write_file = [](const char* path, const std::string& text) {
       const int fd = ::open(path, O_WRONLY);
-      const bool ok = fd >= 0 && ::write(fd, text.data(), text.size()) ==
-                                     static_cast<ssize_t>(text.size());
+      const bool ok =
+          fd >= 0 && ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
       if (fd >= 0) ::close(fd);
       return ok;
     };
     bool isolated = ::unshare(CLONE_NEWNS) == 0;
     if (!isolated && ::unshare(CLONE_NEWUSER | CLONE_NEWNS) == 0) {
-      isolated = write_file("/proc/self/setgroups", "deny") &&
-                 write_file("/proc/self/uid_map", std::to_string(uid) + " " +
-                                                      std::to_string(uid) + " 1") &&
-                 write_file("/proc/self/gid_map", std::to_string(gid) + " " +
-                                                      std::to_string(gid) + " 1");
+      isolated =
+          write_file("/proc/self/setgroups", "deny") &&
+          write_file("/proc/self/uid_map",
+                     std::to_string(uid) + " " + std::to_string(uid) + " 1") &&
+          write_file("/proc/self/gid_map", std::to_string(gid) + " " + std::to_string(gid) + " 1");
     }
     if (!isolated || ::mount(nullptr, "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0 ||
         ::mount("tmpfs", kShmDirectory, "tmpfs", 0, (std::string("size=") + size).c_str()) != 0) {
