@@ -13,8 +13,15 @@ namespace tofcomp::daemon {
 ScanOutputs::ScanOutputs(boost::asio::io_context& io, const settings::OutputsConfig& config,
                          socket::SocketRequestHandler& requests, ServiceStatus& service)
     : service_(service),
-      socket_path_(config.socket.path.string()),
-      lock_(std::filesystem::absolute(config.socket.path)) {
+      activated_(service::take_activated_socket()),
+      socket_path_(activated_ ? activated_->path : config.socket.path.string()),
+      lock_(std::filesystem::absolute(socket_path_)) {
+  if (activated_ && std::filesystem::path(activated_->path) != config.socket.path) {
+    spdlog::warn(
+        "the service manager passed a socket at {}: served there, not at outputs.socket.path {}; "
+        "clients that read the configuration look there (make ListenStream= and the path one)",
+        activated_->path, config.socket.path.string());
+  }
   const auto& shm = config.shm;
   ring_ = std::make_unique<ipc::ring::RingWriter>(
       shm.name, static_cast<std::uint32_t>(shm.slots), ipc::ring::kDefaultMaxBeams,
@@ -33,6 +40,7 @@ ScanOutputs::ScanOutputs(boost::asio::io_context& io, const settings::OutputsCon
   settings.max_request_bytes = so.max_request_bytes;
   settings.max_queued_bytes_per_client = so.max_queued_bytes_per_client;
   settings.idle_timeout = so.idle_timeout;
+  if (activated_) settings.activated_listener = activated_->fd;
   server_ = std::make_unique<socket::SocketServer>(
       io, settings, requests, [](socket::SocketLogLevel level, const std::string& message) {
         if (level == socket::SocketLogLevel::Warning) {

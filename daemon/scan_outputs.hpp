@@ -2,8 +2,10 @@
 // subscribers (daemon/socket/), and the latest one for the socket's `latest` request; the first
 // published makes the service ready. Takes the runtime directory's lock first (one daemon per
 // runtime directory: daemon/instance_lock.hpp). A ring name taken by another user's object is
-// left alone: the ring goes to its alternative name, and the log says so. Owns the lock, the ring
-// writer, the socket server, the latest scan and the count of scans published.
+// left alone: the ring goes to its alternative name, and the log says so. A listening socket the
+// service manager passed (socket activation: tofcompd.socket) is served in place of
+// outputs.socket.path, and the log says where it is. Owns the lock, the ring writer, the socket
+// server, the latest scan and the count of scans published.
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -13,6 +15,7 @@
 #include <string>
 
 #include "daemon/instance_lock.hpp"
+#include "daemon/service/socket_activation.hpp"
 #include "daemon/service_status.hpp"
 #include "daemon/socket/request_handler.hpp"
 #include "daemon/socket/socket_server.hpp"
@@ -40,6 +43,7 @@ class ScanOutputs {
 
  private:
   ServiceStatus& service_;
+  std::optional<service::ActivatedSocket> activated_;  // taken before the path and the lock
   std::string socket_path_;
   InstanceLock lock_;
   std::unique_ptr<ipc::ring::RingWriter> ring_;

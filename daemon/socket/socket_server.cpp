@@ -2,6 +2,7 @@
 // scans to the subscribers, and the bounded queues' accounting.
 #include "daemon/socket/socket_server.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
@@ -105,6 +106,7 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   }
 
   void start();
+  void serve_activated_listener(int listener);
   void stop();
   void publish(const ipc::CompensatedScan& scan);
   SocketServerCounters counters() const;
@@ -138,7 +140,7 @@ class SocketServer::Impl final : public ClientConnection::Owner,
   std::uint64_t next_number_ = 1;
   std::uint64_t admitted_now_ = 0;   // connections in the max_clients slots
   std::uint64_t operators_now_ = 0;  // connections in the operator's slots beyond them
-  std::uint64_t generation_ = 0;  // of the accept loop: a restarted server ignores the old one
+  std::uint64_t generation_ = 0;     // of the accept loop: a restarted server ignores the old one
   SocketServerCounters counters_;
   std::optional<FileIdentity> made_;
   ReportThrottle refusal_warnings_{kRefusalWarningInterval};
@@ -163,6 +165,10 @@ class SocketServer::Impl final : public ClientConnection::Owner,
 
 void SocketServer::Impl::start() {
   if (running_) return;
+  if (settings_.activated_listener) {
+    serve_activated_listener(*settings_.activated_listener);
+    return;
+  }
   const std::string& path = settings_.path;
   if (clear_stale_socket(path)) log(SocketLogLevel::Info, "removed the stale socket file " + path);
   const std::string hidden = binding_name(path);
@@ -210,6 +216,26 @@ void SocketServer::Impl::start() {
   running_ = true;
   asio::co_spawn(io_, accept_loop(shared_from_this(), ++generation_), asio::detached);
   log(SocketLogLevel::Info, "listening on " + path);
+}
+
+void SocketServer::Impl::serve_activated_listener(int listener) {
+  // A duplicate: stop() closes the acceptor's descriptor, and a later start() serves again.
+  const int fd = ::fcntl(listener, F_DUPFD_CLOEXEC, 0);
+  if (fd < 0) {
+    throw core::Error("cannot serve the socket the service manager passed for " + settings_.path +
+                      ": " + std::strerror(errno));
+  }
+  boost::system::error_code ec;
+  acceptor_.assign(asio::local::stream_protocol(), fd, ec);
+  if (ec) {
+    ::close(fd);
+    throw core::Error("cannot serve the socket the service manager passed for " + settings_.path +
+                      ": " + ec.message());
+  }
+  running_ = true;
+  asio::co_spawn(io_, accept_loop(shared_from_this(), ++generation_), asio::detached);
+  log(SocketLogLevel::Info,
+      "listening on " + settings_.path + ", the socket the service manager passed");
 }
 
 void SocketServer::Impl::stop() {
@@ -275,9 +301,9 @@ void SocketServer::Impl::admit(Stream stream) {
     log(SocketLogLevel::Warning,
         name(*connection) + " turned away: " + std::to_string(settings_.max_clients) +
             " clients are connected (max_clients)" +
-            (*passed_over > 0 ? "; " + std::to_string(*passed_over) +
-                                    " more turned away since the last warning"
-                              : std::string()));
+            (*passed_over > 0
+                 ? "; " + std::to_string(*passed_over) + " more turned away since the last warning"
+                 : std::string()));
   }
   enqueue(*connection,
           std::make_shared<const std::string>(ipc::socket::encode_error_reply(

@@ -18,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,24 +40,29 @@ struct SocketServerSettings {
   // The users whose connections may send control requests (reload, recalibrate), by the peer's
   // credentials. Empty: the server's own effective user and root.
   std::vector<uid_t> control_uids;
+  // A listening Unix stream socket the service manager passed (socket activation,
+  // daemon/service/socket_activation.hpp), bound to `path`: served instead of binding one. The
+  // server serves on a duplicate and leaves the socket file to the manager: it neither makes,
+  // chmods nor removes it (the manager's SocketMode= sets its permissions).
+  std::optional<int> activated_listener;
 
   void validate() const;  // throws core::InvalidInput naming the setting at fault
 };
 
 struct SocketServerCounters {
-  std::uint64_t clients = 0;                   // connected now, the operator's slot included
-  std::uint64_t subscribers = 0;               // of those, subscribed now
-  std::uint64_t accepted_clients = 0;          // admitted since start
-  std::uint64_t refused_clients = 0;           // turned away at max_clients
-  std::uint64_t dropped_slow_clients = 0;      // closed because their queue was full
-  std::uint64_t idle_clients_closed = 0;       // closed after idle_timeout: no request, nothing sent
-  std::uint64_t forbidden_requests = 0;        // control requests from users not allowed them
-  std::uint64_t requests = 0;                  // request lines answered
-  std::uint64_t errors = 0;                    // of those, answered with an error
-  std::uint64_t scans_published = 0;           // publish() calls while running
-  std::uint64_t scan_encodings = 0;            // scans encoded (once per distinct beam range)
-  std::uint64_t queued_bytes = 0;              // queued now, summed over connections
-  std::uint64_t peak_queued_bytes = 0;         // the most queued_bytes has been
+  std::uint64_t clients = 0;               // connected now, the operator's slot included
+  std::uint64_t subscribers = 0;           // of those, subscribed now
+  std::uint64_t accepted_clients = 0;      // admitted since start
+  std::uint64_t refused_clients = 0;       // turned away at max_clients
+  std::uint64_t dropped_slow_clients = 0;  // closed because their queue was full
+  std::uint64_t idle_clients_closed = 0;   // closed after idle_timeout: no request, nothing sent
+  std::uint64_t forbidden_requests = 0;    // control requests from users not allowed them
+  std::uint64_t requests = 0;              // request lines answered
+  std::uint64_t errors = 0;                // of those, answered with an error
+  std::uint64_t scans_published = 0;       // publish() calls while running
+  std::uint64_t scan_encodings = 0;        // scans encoded (once per distinct beam range)
+  std::uint64_t queued_bytes = 0;          // queued now, summed over connections
+  std::uint64_t peak_queued_bytes = 0;     // the most queued_bytes has been
   std::uint64_t peak_client_queued_bytes = 0;  // the most one connection has had queued
 };
 
@@ -76,8 +82,9 @@ class SocketServer {
   SocketServer& operator=(const SocketServer&) = delete;
 
   // Claims the path (a stale socket file is removed only when nothing listens on it), binds,
-  // sets the permissions and listens. Throws core::Error naming the path when another daemon
-  // listens there, the path holds something else, or binding fails.
+  // sets the permissions and listens; or serves the activated listener. Throws core::Error
+  // naming the path when another daemon listens there, the path holds something else, or
+  // binding fails.
   void start();
   // Closes every connection and the listener and removes the socket file (if it is still the
   // one start() made). The server may be destroyed at once.

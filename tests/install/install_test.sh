@@ -20,6 +20,7 @@ for f in usr/bin/tofcompd usr/bin/tofcomp etc/tofcompd/tofcompd.yaml \
          usr/lib/systemd/system/tofcomp-ros2-bridge.service \
          usr/lib/systemd/system/tofcomp-ros2-bridge@.service usr/share/man/man8/tofcomp-ros2-bridge.8.gz \
          usr/lib/systemd/system/tofcompd.service usr/lib/systemd/system/tofcompd@.service \
+         usr/lib/systemd/system/tofcompd.socket \
          usr/lib/sysusers.d/tofcompd.conf \
          usr/share/man/man8/tofcompd.8.gz usr/share/man/man5/tofcompd.yaml.5.gz \
          usr/share/man/man1/tofcomp.1.gz \

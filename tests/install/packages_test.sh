@@ -26,6 +26,7 @@ contents "$daemon_deb" > "$work/daemon.list"
 contents "$cli_deb" > "$work/cli.list"
 for f in /usr/bin/tofcompd /etc/tofcompd/tofcompd.yaml \
          /usr/lib/systemd/system/tofcompd.service /usr/lib/systemd/system/tofcompd@.service \
+         /usr/lib/systemd/system/tofcompd.socket \
          /usr/lib/sysusers.d/tofcompd.conf /usr/share/man/man8/tofcompd.8.gz \
          /usr/share/man/man5/tofcompd.yaml.5.gz /usr/share/tofcomp/tofcompd-emulator.yaml \
          /usr/share/doc/tofcompd/copyright; do

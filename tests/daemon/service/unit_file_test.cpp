@@ -15,6 +15,9 @@
 #include <sstream>
 #include <string>
 
+#include "ipc/socket/protocol_constants.hpp"
+#include "ipc/socket/server_defaults.hpp"
+#include "tests/support/file_text.hpp"
 #include "tests/support/temporary_directory.hpp"
 
 namespace tofcomp::daemon::service {
@@ -51,13 +54,6 @@ std::string quoted(const fs::path& path) {
   return "'" + path.string() + "'";
 }
 
-std::string read_all(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   EXPECT_NE(at, std::string::npos) << "'" << from << "' not in the text";
@@ -68,10 +64,12 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 class SystemdFilesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    unit_ = read_all(kUnitDir / "tofcompd.service");
+    unit_ = testing::file_text(kUnitDir / "tofcompd.service");
     ASSERT_FALSE(unit_.empty()) << kUnitDir / "tofcompd.service";
-    instance_unit_ = read_all(kUnitDir / "tofcompd@.service");
+    instance_unit_ = testing::file_text(kUnitDir / "tofcompd@.service");
     ASSERT_FALSE(instance_unit_.empty()) << kUnitDir / "tofcompd@.service";
+    socket_unit_ = testing::file_text(kUnitDir / "tofcompd.socket");
+    ASSERT_FALSE(socket_unit_.empty()) << kUnitDir / "tofcompd.socket";
   }
 
   // The unit as shipped but for the executable, which a build machine does not have installed.
@@ -92,7 +90,18 @@ class SystemdFilesTest : public ::testing::Test {
   test::TemporaryDirectory directory_;
   std::string unit_;
   std::string instance_unit_;  // tofcompd@.service
+  std::string socket_unit_;    // tofcompd.socket
 };
+
+// The value of the one line KEY=... of a unit; fails the test when there is not exactly one.
+std::string value_of(const std::string& unit, const std::string& key) {
+  const std::regex line("\n" + key + "=([^\n]*)\n");
+  const auto count =
+      std::distance(std::sregex_iterator(unit.begin(), unit.end(), line), std::sregex_iterator());
+  EXPECT_EQ(count, 1) << key << " in\n" << unit;
+  std::smatch m;
+  return std::regex_search(unit, m, line) ? m[1].str() : std::string();
+}
 
 TEST_F(SystemdFilesTest, ToolsArePresent) {
   // tools/setup.sh installs the systemd package; without it the checks below cannot run.
@@ -118,6 +127,25 @@ TEST_F(SystemdFilesTest, UnitVerifiesCleanly) {
   EXPECT_TRUE(passes(r)) << "exit " << r.exit_code << ":\n" << r.output;
 }
 
+// tofcompd.socket: verified beside the service it starts; it listens where the daemon serves as
+// root, with the permissions and owners the daemon gives a socket it makes itself.
+TEST_F(SystemdFilesTest, SocketUnitOpensTheSocketTheDaemonServes) {
+  std::ofstream(directory_ / "tofcompd.service") << checkable_unit();
+  const CommandResult r = verify(socket_unit_, "tofcompd.socket");
+  EXPECT_TRUE(passes(r)) << "exit " << r.exit_code << ":\n" << r.output;
+
+  EXPECT_EQ(value_of(socket_unit_, "ListenStream"), ipc::socket::kDefaultSocketPath);
+  EXPECT_EQ(std::stoul(value_of(socket_unit_, "SocketMode"), nullptr, 8),
+            ipc::socket::kDefaultSocketMode);
+  EXPECT_EQ(value_of(socket_unit_, "SocketUser"), value_of(unit_, "User"));
+  EXPECT_EQ(value_of(socket_unit_, "SocketGroup"), value_of(unit_, "Group"));
+  EXPECT_EQ(value_of(socket_unit_, "Accept"), "no");
+  // The socket's directory is the service's runtime directory, which must outlive a stop.
+  EXPECT_EQ(fs::path(ipc::socket::kDefaultSocketPath).parent_path(),
+            fs::path("/run") / value_of(unit_, "RuntimeDirectory"));
+  EXPECT_EQ(value_of(unit_, "RuntimeDirectoryPreserve"), "yes");
+}
+
 // tofcompd@.service: instance NAME reads /etc/tofcompd/NAME.yaml and publishes as --instance NAME
 // says; its runtime and state directories are its own; otherwise it is the same unit.
 TEST_F(SystemdFilesTest, InstanceUnitNamesItsConfigSocketAndStateByTheInstance) {
@@ -131,9 +159,9 @@ TEST_F(SystemdFilesTest, InstanceUnitNamesItsConfigSocketAndStateByTheInstance) 
   as_plain = replaced(as_plain, "StateDirectory=tofcompd/%i", "StateDirectory=tofcompd");
   as_plain = replaced(as_plain, " (instance %i)", "");
   EXPECT_EQ(as_plain, unit_);
-  const CommandResult r = verify(
-      replaced(instance_unit_, "ExecStart=/usr/bin/tofcompd ", "ExecStart=/bin/true "),
-      "tofcompd@left.service");
+  const CommandResult r =
+      verify(replaced(instance_unit_, "ExecStart=/usr/bin/tofcompd ", "ExecStart=/bin/true "),
+             "tofcompd@left.service");
   EXPECT_TRUE(passes(r)) << "exit " << r.exit_code << ":\n" << r.output;
 }
 
@@ -201,8 +229,8 @@ TEST_F(SystemdFilesTest, SysusersCreatesTheUserInTheUnitsGroups) {
   ASSERT_TRUE(std::regex_search(unit_, m, std::regex("\nSupplementaryGroups=([^\n]+)\n")));
   const std::string supplementary = m[1];
 
-  const std::string passwd = read_all(root / "etc" / "passwd");
-  const std::string groups = read_all(root / "etc" / "group");
+  const std::string passwd = testing::file_text(root / "etc" / "passwd");
+  const std::string groups = testing::file_text(root / "etc" / "group");
   ASSERT_TRUE(std::regex_search(passwd, m, std::regex("\n" + user + ":x:(\\d+):(\\d+):")))
       << passwd;
   const std::string gid = m[2];
@@ -225,7 +253,7 @@ TEST_F(SystemdFilesTest, SysusersRejectsABrokenFile) {
   const fs::path root = directory_ / "root";
   fs::create_directories(root / "etc");
   const fs::path broken = directory_ / "broken.conf";
-  std::ofstream(broken) << replaced(read_all(kSystemdDir / "tofcompd.sysusers"),
+  std::ofstream(broken) << replaced(testing::file_text(kSystemdDir / "tofcompd.sysusers"),
                                     "m tofcompd dialout", "m tofcompd");
   const CommandResult r = run("systemd-sysusers --root=" + quoted(root) + " " + quoted(broken));
   EXPECT_NE(r.exit_code, 0) << r.output;
