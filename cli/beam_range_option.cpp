@@ -1,8 +1,18 @@
 #include "cli/beam_range_option.hpp"
 
+#include "cli/number_checks.hpp"
 #include "core/error.hpp"
 
 namespace tofcomp::cli {
+
+CLI::Option* add_beams_option(CLI::App& cmd, std::string& beams) {
+  return cmd
+      .add_option("--beams", beams,
+                  "Only beams FIRST:LAST (indices from 0, both included), or one index; "
+                  "default: every beam")
+      ->check(parsed_by([](const std::string& text) { parse_beam_range(text); }, "--beams ",
+                        "FIRST:LAST"));
+}
 
 std::optional<ipc::socket::BeamRange> parse_beam_range(const std::string& text) {
   if (text.empty()) return std::nullopt;

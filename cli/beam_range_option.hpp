@@ -2,6 +2,7 @@
 // both included) or one index.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 
@@ -12,5 +13,9 @@ namespace tofcomp::cli {
 // nullopt for an empty text (every beam). Throws core::InvalidInput naming the text when it is
 // not FIRST:LAST with FIRST <= LAST or one index, each at most ipc::socket::kMaxBeamIndex.
 std::optional<ipc::socket::BeamRange> parse_beam_range(const std::string& text);
+
+// --beams=FIRST:LAST, one registration for every command that takes it: checked while the
+// command line is read (a bad range is a usage error, status 2, before any work).
+CLI::Option* add_beams_option(CLI::App& cmd, std::string& beams);
 
 }  // namespace tofcomp::cli

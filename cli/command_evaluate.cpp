@@ -4,7 +4,7 @@
 #include <fmt/format.h>
 
 #include "cli/command.hpp"
-#include "cli/figure_data.hpp"
+#include "cli/figure_drawing.hpp"
 #include "cli/number_checks.hpp"
 #include "cli/progress.hpp"
 #include "cli/report_format.hpp"
@@ -29,18 +29,20 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
                   "Share of the record used for training; it ends at the nearest power-on")
       ->capture_default_str()
       ->check(between(0.05, 0.95));
-  cmd->add_option("--windows", *windows, "Window lengths, comma separated")->capture_default_str();
+  add_windows_option(*cmd, *windows, "Window lengths");
   cmd->add_option("--stride", *stride, "Samples between window starts (1: every window)")
       ->capture_default_str()
       ->check(at_least(1));
-  cmd->add_option("--figures", *figures, "Directory for the data behind the paper's figures, as CSV files (drawn by "
-                  "tofcomp diagnose --report)");
+  add_figures_option(*cmd, *figures);
   cmd->add_option("--calibration-output", *calibration_out,
                   "Also write the calibration trained on the first part");
   cmd->callback([&common, &run, data, training, fraction, windows, stride, figures,
                  calibration_out] {
     run = [&common, data, training, fraction, windows, stride, figures, calibration_out] {
       Progress progress("evaluate", !common.quiet);
+      // Found before any work: a missing matplotlib fails at once, not after the training.
+      const std::optional<ReportRenderer> renderer =
+          figures->empty() ? std::nullopt : std::optional(find_report_renderer());
       const calibration::MeasuredData all = data->load();
       const double split = calibration::split_time(all, *fraction);
       const calibration::MeasuredData train = all.slice(-1e300, split);
@@ -49,16 +51,22 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
       progress.update(0.05, "training");
       const calibration::TrainSettings settings = training->settings();
       const calibration::Training t = calibration::train_calibration(
-          train, settings, &test,
-          [&](double share, const std::string& stage) { progress.update(0.05 + 0.15 * share, stage); });
+          train, settings, &test, [&](double share, const std::string& stage) {
+            progress.update(0.05 + 0.15 * share, stage);
+          });
       if (!calibration_out->empty()) io::write_calibration_file(*calibration_out, t.calibration);
       const calibration::Compensation compensation = calibration::compensate(test, t.calibration);
       const auto evaluations = calibration::evaluate_windows(
           test, t.calibration, compensation, parse_windows(*windows), *stride,
           [&](double f) { progress.update(0.2 + 0.8 * f, "windows"); });
-      if (!figures->empty()) {
-        write_figure_data(*figures, test, t.calibration, compensation, evaluations, &t.thermal,
-                          &t.em);
+      if (renderer) {
+        progress.update(1.0, "drawing the figures");
+        write_and_draw_figures(
+            *figures,
+            FigureInputs{test, t.calibration, compensation, evaluations, *stride, &t.thermal,
+                         &t.em},
+            {{"split_time_s", split}, {"training_samples", train.range_mm.size()}}, *renderer,
+            !common.quiet);
       }
       progress.done();
       CommandResult result;
@@ -71,7 +79,8 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
                      {"windows", to_json(evaluations)}};
       result.text = fmt::format("trained on {} ranges before t = {:.0f} s, tested on {} after\n",
                                 train.range_mm.size(), split, test.range_mm.size()) +
-                    thermal_fit_text(t.thermal) + choices_text(t) + calibration_text(t.calibration) +
+                    thermal_fit_text(t.thermal) + choices_text(t) +
+                    calibration_text(t.calibration) +
                     "error of the window estimates against the true distance (§8.4):\n" +
                     window_table_text(evaluations);
       return result;

@@ -38,8 +38,8 @@ struct QueryOptions {
   std::string socket = ipc::socket_to_read(ipc::current_user_environment()).string();
   std::string instance;  // --instance: its socket replaces `socket`
   double timeout_s = 5.0;
-  std::string beams;  // FIRST:LAST, or one index
-  std::string args;   // recalibrate: a JSON object
+  std::string beams;          // FIRST:LAST, or one index
+  std::string args;           // recalibrate: a JSON object
   int count = kUntilStopped;  // subscribe: scans to print
   unsigned every = 1;
 };
@@ -74,8 +74,7 @@ auto with_daemon(const std::string& socket, F&& f) {
     return f();
   } catch (const client::Error& e) {
     if (e.kind() == client::ErrorKind::Daemon) {
-      throw core::Error("tofcompd at " + socket + " answered " + e.daemon_code() + ": " +
-                        e.what());
+      throw core::Error("tofcompd at " + socket + " answered " + e.daemon_code() + ": " + e.what());
     }
     throw core::Error(e.what());
   }
@@ -168,7 +167,8 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
   auto o = std::make_shared<QueryOptions>();
   auto* socket = cmd->add_option("--socket", o->socket,
                                  "tofcompd's socket; default: your own tofcompd's when it runs, "
-                                 "the system's otherwise")->capture_default_str();
+                                 "the system's otherwise")
+                     ->capture_default_str();
   cmd->add_option("-i,--instance", o->instance,
                   "The socket of tofcompd instance NAME (tofcompd@NAME.service): "
                   "/run/tofcompd/NAME/tofcompd.sock")
@@ -181,7 +181,7 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
   cmd->require_subcommand(1);
 
   auto* latest = cmd->add_subcommand("latest", "The latest compensated scan");
-  latest->add_option("--beams", o->beams, "Beams FIRST:LAST (indices), or one index");
+  add_beams_option(*latest, o->beams);
   latest->callback([&run, o] { run = [o] { return run_simple(*o, "latest"); }; });
 
   for (const char* op : {"status", "stats", "reload"}) {
@@ -198,14 +198,15 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
   recalibrate->callback([&run, o] { run = [o] { return run_simple(*o, "recalibrate"); }; });
 
   auto* subscribe = cmd->add_subcommand("subscribe", "Print scans as the daemon publishes them");
-  subscribe->add_option("-n,--count", o->count,
-                        "Scans to print, then disconnect; without it, print scans until "
-                        "interrupted (Ctrl-C) or the reader of the output goes away")
+  subscribe
+      ->add_option("-n,--count", o->count,
+                   "Scans to print, then disconnect; without it, print scans until "
+                   "interrupted (Ctrl-C) or the reader of the output goes away")
       ->check(at_least(1));
   subscribe->add_option("--every", o->every, "Only scans whose sequence is a multiple of this")
       ->check(between(1, ipcs::kMaxEvery))
       ->capture_default_str();
-  subscribe->add_option("--beams", o->beams, "Beams FIRST:LAST (indices), or one index");
+  add_beams_option(*subscribe, o->beams);
   subscribe->callback(
       [&run, &common, o] { run = [&common, o] { return run_subscribe(*o, common); }; });
 }

@@ -250,8 +250,9 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
   auto o = std::make_shared<ShmDumpOptions>();
   auto* name =
       cmd->add_option("name", o->name,
-                     "Name of the ring's shm object; default: your own tofcompd's when it runs, "
-                     "the system's otherwise")->capture_default_str();
+                      "Name of the ring's shm object; default: your own tofcompd's when it runs, "
+                      "the system's otherwise")
+          ->capture_default_str();
   cmd->add_option("-i,--instance", o->instance,
                   "The ring of tofcompd instance NAME (tofcompd@NAME.service): /tofcompd-NAME")
       ->check([](const std::string& instance) { return ipc::instance_name_problem(instance); },
@@ -267,18 +268,7 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("-n,--count", o->count,
                   "Scans to print: without --follow the newest N still in the ring")
       ->check(at_least(1));
-  cmd->add_option("--beams", o->beams,
-                  "Only beams FIRST:LAST (indices from 0, inclusive), or one index")
-      ->check(
-          [](const std::string& text) {
-            try {
-              parse_beam_range(text);
-              return std::string();
-            } catch (const core::InvalidInput& e) {
-              return std::string(e.what());
-            }
-          },
-          "FIRST:LAST");
+  add_beams_option(*cmd, o->beams);
   cmd->callback([&common, &run, o] { run = [&common, o] { return shm_dump(*o, common); }; });
 }
 

@@ -11,6 +11,7 @@
 #include "cli/command.hpp"
 #include "cli/unknown_argument_hint.hpp"
 #include "core/error.hpp"
+#include "io/help_format.hpp"
 #include "io/version.hpp"
 
 int main(int argc, char** argv) {
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "tofcomp: temperature and mode-hopping compensation for time-of-flight LiDARs "
       "(Alhashimi et al., Sensors 2015)"};
+  tofcomp::io::use_gnu_help(app);
   app.set_version_flag("--version", std::string("tofcomp ") + tofcomp::io::kVersion);
   app.require_subcommand(1);
   app.fallthrough();  // --json and --quiet also after the subcommand

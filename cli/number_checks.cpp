@@ -6,6 +6,8 @@
 #include <functional>
 #include <string>
 
+#include "core/error.hpp"
+
 namespace tofcomp::cli {
 
 namespace {
@@ -40,6 +42,21 @@ CLI::Validator between(double lowest, double highest) {
   return number_check([lowest, highest](double v) { return v >= lowest && v <= highest; },
                       fmt::format("must be between {} and {}", lowest, highest),
                       fmt::format("{} to {}", lowest, highest));
+}
+
+CLI::Validator parsed_by(std::function<void(const std::string&)> parse, std::string option_prefix,
+                         std::string value_name) {
+  return CLI::Validator(
+      [parse = std::move(parse), prefix = std::move(option_prefix)](const std::string& text) {
+        try {
+          parse(text);
+          return std::string();
+        } catch (const core::InvalidInput& e) {
+          const std::string message = e.what();
+          return message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message;
+        }
+      },
+      std::move(value_name));
 }
 
 }  // namespace tofcomp::cli

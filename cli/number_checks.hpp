@@ -4,6 +4,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
 
 namespace tofcomp::cli {
 
@@ -13,5 +15,11 @@ CLI::Validator at_least(double minimum);
 CLI::Validator greater_than(double bound);
 // lowest ≤ value ≤ highest.
 CLI::Validator between(double lowest, double highest);
+
+// A value that `parse` takes (it throws core::InvalidInput otherwise, its message naming the
+// option with `option_prefix` first, which CLI11 adds itself and is taken off); `value_name` is
+// what the help calls the value (FIRST:LAST).
+CLI::Validator parsed_by(std::function<void(const std::string&)> parse, std::string option_prefix,
+                         std::string value_name);
 
 }  // namespace tofcomp::cli

@@ -68,8 +68,10 @@ ReportRenderer find_report_renderer() {
   return renderer;
 }
 
-void ReportRenderer::render(const std::filesystem::path& directory, bool show_progress) const {
+void ReportRenderer::render(const std::filesystem::path& directory, bool show_progress,
+                            Rendering what) const {
   std::vector<std::string> argv{python, script.string(), directory.string()};
+  if (what == Rendering::Figures) argv.push_back("--figures");
   if (!show_progress) argv.push_back("--quiet");
   const ChildOutcome run = run_child(argv, ChildStdout::ToStderr);
   if (!run.started || run.exit_code != 0) {

@@ -15,14 +15,19 @@
 
 namespace tofcomp::cli {
 
+// What the renderer makes of a directory: the whole report (DIR/data/ of `diagnose --report`),
+// or the paper's figures alone (DIR/data/ of `evaluate --figures`, no page).
+enum class Rendering { Report, Figures };
+
 struct ReportRenderer {
   std::filesystem::path script;
   std::string python;  // an interpreter that has matplotlib and numpy
 
-  // Renders DIR (its data/ written beforehand) into DIR/figures/*.png and DIR/index.html. The
-  // script's progress (when show_progress) and errors go to stderr. Throws core::Error when
-  // the script fails.
-  void render(const std::filesystem::path& directory, bool show_progress) const;
+  // Renders DIR (its data/ written beforehand) into DIR/figures/*.png and, for the report,
+  // DIR/index.html. The script's progress (when show_progress) and errors go to stderr. Throws
+  // core::Error when the script fails.
+  void render(const std::filesystem::path& directory, bool show_progress,
+              Rendering what = Rendering::Report) const;
 };
 
 // The renderer script as this binary finds it, and the Python to run it: found before any

@@ -16,9 +16,18 @@ CLI::Option* add_parallelism_option(CLI::App& cmd, const std::string& names, int
                                     const std::string& what) {
   return cmd
       .add_option(names, count,
-                  what + " at once (0, the default: one per core; the results do not depend on "
-                         "it)")
+                  what +
+                      " at once (0, the default: one per core; the results do not depend on "
+                      "it)")
       ->check(between(0, kMaxParallelism));
+}
+
+CLI::Option* add_figures_option(CLI::App& cmd, std::string& directory) {
+  return cmd
+      .add_option("--figures", directory,
+                  "Draw the paper's figures into DIR/figures/ (PNG; needs "
+                  "python3-matplotlib), their data as CSV into DIR/data/")
+      ->type_name("DIR");
 }
 
 namespace {
@@ -41,7 +50,8 @@ std::shared_ptr<DataOptions> add_data_options(CLI::App& cmd) {
   cmd.add_option("data", o->file, "Measured data (interchange CSV)")
       ->required()
       ->check(CLI::ExistingFile);
-  o->beam_option = cmd.add_option("--beam", o->beam, "Beam index to analyse")->capture_default_str();
+  o->beam_option =
+      cmd.add_option("--beam", o->beam, "Beam index to analyse")->capture_default_str();
   return o;
 }
 
@@ -187,8 +197,7 @@ calibration::ModelSearchOptions SearchOptions::options(int threads) const {
 
 std::shared_ptr<SearchOptions> add_search_options(CLI::App& cmd) {
   auto o = std::make_shared<SearchOptions>();
-  cmd.add_option("--windows", o->windows, "Window lengths of the held-out d hat comparison")
-      ->capture_default_str();
+  add_windows_option(cmd, o->windows, "Window lengths of the held-out d hat comparison");
   cmd.add_option("--stride", o->stride, "Ranges between held-out windows")
       ->capture_default_str()
       ->check(at_least(1));
@@ -203,6 +212,13 @@ std::shared_ptr<SearchOptions> add_search_options(CLI::App& cmd) {
       ->capture_default_str()
       ->check(between(1, 10));
   return o;
+}
+
+CLI::Option* add_windows_option(CLI::App& cmd, std::string& windows, const std::string& what) {
+  return cmd.add_option("--windows", windows, what + ", comma separated")
+      ->capture_default_str()
+      ->check(parsed_by([](const std::string& text) { parse_windows(text); },
+                        "--windows: ", "N,N,..."));
 }
 
 std::vector<Eigen::Index> parse_windows(const std::string& list) {

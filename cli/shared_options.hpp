@@ -20,6 +20,10 @@ inline constexpr int kMaxParallelism = 256;
 CLI::Option* add_parallelism_option(CLI::App& cmd, const std::string& names, int& count,
                                     const std::string& what);
 
+// --figures DIR of evaluate and test (cli/figure_drawing.hpp): the paper's figures as PNG in
+// DIR/figures/, their data as CSV in DIR/data/.
+CLI::Option* add_figures_option(CLI::App& cmd, std::string& directory);
+
 // --basis and --modes: chosen from the data.
 inline constexpr const char* kAutoChoice = "auto";
 
@@ -61,7 +65,8 @@ struct TrainingOptions {
 };
 std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd);
 
-// The model search's options (calibration/model_search.hpp), as diagnose and calibrate-dir take them.
+// The model search's options (calibration/model_search.hpp), as diagnose and calibrate-dir take
+// them.
 struct SearchOptions {
   std::string windows = "200,400,800";
   long stride = 10;
@@ -72,7 +77,10 @@ struct SearchOptions {
 };
 std::shared_ptr<SearchOptions> add_search_options(CLI::App& cmd);
 
-// "200,400,800" → window lengths.
+// "200,400,800" → window lengths. Throws core::InvalidInput naming the item at fault.
 std::vector<Eigen::Index> parse_windows(const std::string& list);
+// --windows=N,N,...: the list checked while the command line is read (a bad one is a usage
+// error, status 2, before any work); `what` says what the lengths are for.
+CLI::Option* add_windows_option(CLI::App& cmd, std::string& windows, const std::string& what);
 
 }  // namespace tofcomp::cli

@@ -21,6 +21,7 @@
 #include "daemon/private_directory.hpp"
 #include "daemon/service/logging.hpp"
 #include "daemon/training_child.hpp"
+#include "io/help_format.hpp"
 #include "io/version.hpp"
 #include "ipc/default_places.hpp"
 #include "ipc/instance_name.hpp"
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   // The daemon's own training process (daemon/training_child.hpp), never started by hand.
   if (argc > 1 && std::string(argv[1]) == kTrainWorkerFlag) return training_child_main(argc, argv);
   CLI::App app("tofcompd: temperature and mode-hopping compensation of an LMS 200 (a service)");
+  tofcomp::io::use_gnu_help(app);
   std::string config_file;
   std::string instance;
   std::string socket_path;
@@ -100,7 +102,8 @@ int main(int argc, char** argv) {
     tofcomp::settings::apply_command_line_overrides(overrides, cfg);
     // A user's own runtime folder may sit under /tmp: it is used only if it is theirs alone.
     const std::filesystem::path own_folder = places.socket.parent_path();
-    const bool in_own_folder = !places.system && cfg.outputs.socket.path.parent_path() == own_folder;
+    const bool in_own_folder =
+        !places.system && cfg.outputs.socket.path.parent_path() == own_folder;
     if (check_only) {
       std::printf("%s: %s\n", cfg.source.c_str(), check_configuration(cfg).c_str());
       return 0;
@@ -111,9 +114,10 @@ int main(int argc, char** argv) {
     logging = true;
     spdlog::info("tofcompd {} starting with {}", tofcomp::io::kVersion, cfg.source);
     if (!places.system) {
-      spdlog::info("not run as root: the socket, ring and recordings default to uid {}'s own "
-                   "places (docs/deployment.md)",
-                   tofcomp::ipc::current_user_environment().uid);
+      spdlog::info(
+          "not run as root: the socket, ring and recordings default to uid {}'s own "
+          "places (docs/deployment.md)",
+          tofcomp::ipc::current_user_environment().uid);
     }
     if (in_own_folder) make_private_directory(own_folder);
     Daemon daemon(cfg, config_file, overrides);

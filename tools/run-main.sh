@@ -3,7 +3,7 @@
 # emulated LMS 200 and its simulated case sensor, show live compensated ranges through the
 # client (socket) and the shared-memory ring, stop it; then the paper's §8 offline: simulate
 # the default scenario with the digital twin, train a calibration, evaluate the compensation.
-# Outputs go to out/ (the daemon's log and recording, data, calibration, figure data).
+# Outputs go to out/ (the daemon's log and recording, data, calibration, the paper's figures).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bash "$root/tools/setup.sh"

@@ -17,6 +17,7 @@
 #include "bridges/mqtt/password_file.hpp"
 #include "bridges/mqtt/topics.hpp"
 #include "core/error.hpp"
+#include "io/help_format.hpp"
 #include "io/version.hpp"
 #include "ipc/instance_name.hpp"
 
@@ -52,8 +53,10 @@ std::string describe(const tofcomp::bridges::mqtt::BridgeConfig& config) {
 
 int main(int argc, char** argv) {
   using namespace tofcomp::bridges::mqtt;
-  CLI::App app("tofcomp-mqtt-bridge: one tofcompd's status, calibration, junction temperature, "
-               "diagnosis and range summary to an MQTT broker");
+  CLI::App app(
+      "tofcomp-mqtt-bridge: one tofcompd's status, calibration, junction temperature, "
+      "diagnosis and range summary to an MQTT broker");
+  tofcomp::io::use_gnu_help(app);
   std::string config_file;
   std::string instance;
   bool check_only = false;

@@ -15,6 +15,7 @@
 #include "bridges/ros2/bridge_config.hpp"
 #include "bridges/ros2/bridge_loop.hpp"
 #include "core/error.hpp"
+#include "io/help_format.hpp"
 #include "io/version.hpp"
 #include "ipc/instance_name.hpp"
 
@@ -22,13 +23,16 @@ namespace {
 
 std::atomic<bool> stop_requested{false};
 
-void request_stop(int) { stop_requested.store(true); }
+void request_stop(int) {
+  stop_requested.store(true);
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace tofcomp::bridges::ros2;
   CLI::App app("tofcomp-ros2-bridge: tofcompd's compensated scans and health to ROS 2 (DDS)");
+  tofcomp::io::use_gnu_help(app);
   std::string config_file;
   std::string instance;
   bool check_only = false;

@@ -3,6 +3,9 @@
 
     diagnosis_report.py [--quiet] DIR   draws DIR/figures/*.png from DIR/data/ and writes
                                         DIR/index.html (progress on stderr unless --quiet)
+    diagnosis_report.py [--quiet] --figures DIR
+                                  draws the paper's figures the data of `tofcomp evaluate
+                                  --figures DIR` allow into DIR/figures/*.png (no page)
     diagnosis_report.py --check   exits 0 when numpy and matplotlib import, 3 (naming what is
                                   missing) otherwise
 
@@ -31,25 +34,37 @@ def missing_modules():
     return missing
 
 
-def render(directory, quiet):
-    from report_data import ReportInputError, load_report_data
+def render(directory, quiet, figures_only):
+    """The report (or, figures_only, the paper's figures of `evaluate --figures`) of DIR."""
+    from report_data import ReportInputError, load_figure_data, load_report_data
     from report_figures import draw_figures
+
+    stage = "figures" if figures_only else "report"
+    try:
+        data = load_figure_data(directory) if figures_only else load_report_data(directory)
+    except ReportInputError as e:
+        print(f"diagnosis_report: error: {e}", file=sys.stderr)
+        return 1
+
+    def progress(message):
+        if not quiet:
+            print(f"{stage}: {message}", file=sys.stderr, flush=True)
+
+    def drawing(message):
+        progress(f"drawing {message}")
+
+    if figures_only:
+        figures, skipped = draw_figures(data, directory, drawing)
+        progress(f"{len(figures)} figures of the paper in {os.path.join(directory, 'figures')} "
+                 f"(Fig. {', '.join(skipped)} need `tofcomp diagnose --report`)")
+        return 0
     from report_figures_findings import draw_finding_figures
     from report_figures_terms import draw_term_figures
     from report_html import write_page
 
-    try:
-        data = load_report_data(directory)
-    except ReportInputError as e:
-        print(f"diagnosis_report: error: {e}", file=sys.stderr)
-        return 1
-    def progress(message):
-        if not quiet:
-            print(f"report: {message}", file=sys.stderr, flush=True)
-
-    term_figures = draw_term_figures(data, directory, lambda m: progress(f"drawing {m}"))
-    figures, skipped = draw_figures(data, directory, lambda m: progress(f"drawing {m}"))
-    finding_figures = draw_finding_figures(data, directory, lambda m: progress(f"drawing {m}"))
+    term_figures = draw_term_figures(data, directory, drawing)
+    figures, skipped = draw_figures(data, directory, drawing)
+    finding_figures = draw_finding_figures(data, directory, drawing)
     page = os.path.join(directory, "index.html")
     write_page(page, data, figures, skipped, finding_figures, term_figures)
     progress(f"wrote {page} with {len(term_figures)} figures of the search's terms, "
@@ -59,7 +74,8 @@ def render(directory, quiet):
 
 def main(argv):
     quiet = "--quiet" in argv[1:]
-    arguments = [a for a in argv[1:] if a != "--quiet"]
+    figures_only = "--figures" in argv[1:]
+    arguments = [a for a in argv[1:] if a not in ("--quiet", "--figures")]
     if len(arguments) != 1 or arguments[0] in ("-h", "--help"):
         print(__doc__, file=sys.stderr)
         return 2
@@ -73,7 +89,9 @@ def main(argv):
             print(f"diagnosis_report: error: {message}; install them with "
                   f"apt-get install python3-matplotlib python3-numpy", file=sys.stderr)
         return MISSING_MODULE_EXIT
-    return 0 if check else render(arguments[0], quiet)
+    if check:
+        return 0
+    return render(arguments[0], quiet, figures_only)
 
 
 if __name__ == "__main__":

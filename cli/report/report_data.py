@@ -81,6 +81,26 @@ def _optional_table(data_dir, name):
     return read_table(path) if os.path.exists(path) else None
 
 
+def _samples(data_dir):
+    """samples.csv: per tested range, what the paper's figures of the ranges draw."""
+    path = os.path.join(data_dir, "samples.csv")
+    samples = read_table(path)
+    require_columns(samples, path,
+                    ["time_s", "range_mm", "junction_c", "bias_mm", "most_probable_mode",
+                     "compensated_mm", "true_range_mm"])
+    return samples
+
+
+def _windows(data_dir, lengths):
+    """windows_<W>.csv of each window length W that has one: length -> table."""
+    windows = {}
+    for length in sorted(lengths):
+        table = _optional_table(data_dir, f"windows_{length}.csv")
+        if table is not None:
+            windows[int(length)] = table
+    return windows
+
+
 def load_report_data(directory):
     data_dir = os.path.join(directory, "data")
     if not os.path.isdir(data_dir):
@@ -98,11 +118,7 @@ def load_report_data(directory):
     if "search_terms" not in context:
         raise ReportInputError(f"{context_path}: no search_terms (what the C++ side computed "
                                f"for the figures of the search's terms)")
-    samples_path = os.path.join(data_dir, "samples.csv")
-    samples = read_table(samples_path)
-    require_columns(samples, samples_path,
-                    ["time_s", "range_mm", "junction_c", "bias_mm", "most_probable_mode",
-                     "compensated_mm", "true_range_mm"])
+    samples = _samples(data_dir)
     diagnosis_samples_path = os.path.join(data_dir, "diagnosis_samples.csv")
     diagnosis_samples = read_table(diagnosis_samples_path)
     require_columns(diagnosis_samples, diagnosis_samples_path,
@@ -113,11 +129,8 @@ def load_report_data(directory):
     search_residuals = read_table(search_residuals_path)
     require_columns(search_residuals, search_residuals_path,
                     ["time_s", "residual_mm", "mode", "e_mm"])
-    windows = {}
-    for length in sorted(set(context.get("windows", [])) | set(context.get("moment_windows", []))):
-        table = _optional_table(data_dir, f"windows_{length}.csv")
-        if table is not None:
-            windows[int(length)] = table
+    windows = _windows(data_dir, set(context.get("windows", [])) |
+                       set(context.get("moment_windows", [])))
     return ReportData(
         directory=directory,
         context=context,
@@ -133,6 +146,30 @@ def load_report_data(directory):
         em_test_trace=_optional_table(data_dir, "em_test_trace.csv"),
         em_test_cost=_optional_table(data_dir, "em_test_cost.csv"),
         moments=_optional_table(data_dir, "moments.csv"),
+    )
+
+
+def load_figure_data(directory):
+    """The data of `tofcomp evaluate --figures DIR` (or `test --figures`): DIR/data/ holds the
+    tables of cli/figure_data.hpp and a context.json of the training; no diagnosis. What the
+    report draws from a diagnosis is then absent, and the figures that need it are left out."""
+    data_dir = os.path.join(directory, "data")
+    if not os.path.isdir(data_dir):
+        raise ReportInputError(f"{data_dir}: no such directory (run tofcomp evaluate --figures)")
+    context = read_json(os.path.join(data_dir, "context.json"))
+    samples = _samples(data_dir)
+    windows = _windows(data_dir, set(context.get("windows", [])))
+    return ReportData(
+        directory=directory,
+        context=context,
+        diagnosis={},
+        samples=samples,
+        diagnosis_samples=None,
+        search_residuals=None,
+        search_terms=[],
+        windows=windows,
+        thermal_fit=_optional_table(data_dir, "thermal_fit.csv"),
+        em_convergence=_optional_table(data_dir, "em_convergence.csv"),
     )
 
 

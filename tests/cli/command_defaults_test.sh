@@ -2,7 +2,7 @@
 # The defaults a user need not type, through the real binary: without --datasheet the thermal
 # fit starts from config/lms200-datasheet.yaml (the same result as naming that file; a different
 # datasheet gives a different start), and `simulate` without -o writes the CSV to stdout, the
-# same bytes as with -o FILE; --figures' help says it writes CSV; train's --threads (0: the
+# same bytes as with -o FILE; --figures' help says it draws PNG and writes CSV; train's --threads (0: the
 # default, one per core) changes nothing in its calibration. Then one version: `tofcomp
 # --version` and `tofcompd --version` print the project(VERSION) of CMakeLists.txt.
 set -euo pipefail
@@ -55,10 +55,10 @@ PY
 "$tofcomp" thermal-fit --help | grep -q "config/lms200-datasheet.yaml" ||
   fail "--help does not name the default datasheet"
 
-# --figures says what it writes: figure data as CSV, drawn by diagnose --report.
+# --figures says what it writes: the figures as PNG, their data as CSV.
 for command in evaluate test; do
-  "$tofcomp" "$command" --help | grep -q -- "--figures.*as CSV files (drawn by tofcomp diagnose --report)" ||
-    fail "$command --help does not say --figures writes CSV"
+  "$tofcomp" "$command" --help | tr -s ' \n' ' ' | grep -q -- "--figures=DIR Draw .*PNG.*CSV" ||
+    fail "$command --help does not say --figures draws PNG and writes CSV"
 done
 
 # One version, from project(VERSION).

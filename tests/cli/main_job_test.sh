@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # End to end through the real binary: simulate the default scenario, evaluate it, and check the
-# claims the README makes (at least threefold lower window MAE for 200, 400 and 800 samples;
-# thermal fit on held-out cycles ≥ 92.79 % by Eq. 26 and ≥ 90 % NRMSE); then the errors a user
-# meets: missing file, malformed CSV, bad option.
+# claims docs/main-job.md makes (at least threefold lower window MAE for 200, 400 and 800 samples;
+# thermal fit on held-out cycles ≥ 92.79 % by Eq. 26 and ≥ 90 % NRMSE) and draws its figures;
+# then the errors a user meets: missing file, malformed CSV, bad option.
 set -euo pipefail
 tofcomp=$1
 root=$2
@@ -13,7 +13,7 @@ trap 'rm -rf "$work"' EXIT
 "$tofcomp" train --help | grep -q -- "--basis"
 
 "$tofcomp" -q simulate "$root/config/scenarios/default.yaml" -o "$work/d.csv"
-"$tofcomp" -q evaluate "$work/d.csv" --stride 10 --json > "$work/e.json"
+"$tofcomp" -q evaluate "$work/d.csv" --stride 10 --json --figures "$work/figures" > "$work/e.json"
 python3 - "$work/e.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -26,6 +26,15 @@ for n in (200, 400, 800):
     assert ratio >= 3.0, (n, ratio)
 print("evaluate claims hold")
 PY
+# --figures: the paper's figures an evaluation gives, drawn as PNG (Fig. 3, 4, 11, 12 of the
+# tested ranges, 8 of the held-out thermal fit, 13 of EM's training, 16, 17 of the windows;
+# the rest need a diagnosis), beside their data.
+drawn=$(cd "$work/figures/figures" && ls -- fig*.png | sed 's/^fig0*\([0-9]*\)_.*/\1/' | sort -n | tr '\n' ' ')
+[ "$drawn" = "3 4 8 11 12 13 16 17 " ] || { echo "evaluate --figures drew: $drawn"; exit 1; }
+for png in "$work"/figures/figures/*.png; do
+  [ "$(head -c 8 "$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || { echo "$png is not a PNG"; exit 1; }
+done
+test -s "$work/figures/data/samples.csv" && test -s "$work/figures/data/context.json"
 
 # Train, then test with the calibration: the same table shape, exit 0.
 "$tofcomp" -q train "$work/d.csv" -o "$work/c.yaml"

@@ -10,8 +10,9 @@ build=$1
 root=$(cd "$(dirname "$0")/../.." && pwd)
 man="$root/man"
 fail=0
-# Long options in CLI11's --help: "  -c,--config TEXT" and "  --check-config".
-long_options() { sed -n 's/^  \(-[a-z],\)\{0,1\}\(--[a-z-]*\).*/\2/p' | grep -v -e '^--help$'; }
+# Long options in --help (GNU style, io/help_format.hpp): "  -c, --config=FILE" and
+# "      --check-config".
+long_options() { sed -n 's/^  \(-[a-zA-Z], \|    \)\(--[a-z-]*\).*/\2/p' | grep -v -e '^--help$'; }
 
 for option in $("$build/daemon/tofcompd" --help | long_options); do
   grep -qF -- "*$option*" "$man/tofcompd.8.scd" ||
@@ -35,7 +36,7 @@ for sub in $subcommands; do
   grep -q "^\*$sub\*" "$man/tofcomp.1.scd" || { echo "tofcomp(1) lacks $sub"; fail=1; }
 done
 for sub in query shm-dump; do
-  "$build/cli/tofcomp" "$sub" --help | grep -q -- '-i,--instance' ||
+  "$build/cli/tofcomp" "$sub" --help | grep -q -- '-i, --instance' ||
     { echo "tofcomp $sub has no --instance"; fail=1; }
 done
 grep -qF -- '*-i* _INSTANCE_' "$man/tofcomp.1.scd" || { echo "tofcomp(1) lacks --instance"; fail=1; }
