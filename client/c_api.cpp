@@ -95,7 +95,7 @@ int tofcomp_connect(const char* path, int timeout_ms, tofcomp_connection** out) 
   *out = nullptr;
   return guarded([&] {
     *out = new tofcomp_connection{tofcomp::client::Connection(
-        path != nullptr ? path : TOFCOMP_DEFAULT_SOCKET_PATH, milliseconds(timeout_ms))};
+        path != nullptr ? path : tofcomp::client::default_socket_path(), milliseconds(timeout_ms))};
     return TOFCOMP_OK;
   });
 }
@@ -183,7 +183,8 @@ int tofcomp_ring_open(const char* name, tofcomp_ring** out) {
   if (out == nullptr) return null_argument("out");
   *out = nullptr;
   return guarded([&] {
-    *out = new tofcomp_ring{tofcomp::client::Ring(name != nullptr ? name : TOFCOMP_DEFAULT_RING_NAME)};
+    *out = new tofcomp_ring{
+        tofcomp::client::Ring(name != nullptr ? name : tofcomp::client::default_ring_name())};
     return TOFCOMP_OK;
   });
 }

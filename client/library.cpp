@@ -4,6 +4,7 @@
 
 #include "client/public_scan.hpp"
 #include "core/error.hpp"
+#include "ipc/default_places.hpp"
 #include "ipc/socket/compact_frame.hpp"
 #include "ipc/socket/protocol_constants.hpp"
 #include "tofcomp/client.hpp"
@@ -27,11 +28,19 @@ std::vector<std::string> flag_names(std::uint16_t flags) {
   return ipc::beam_flag_names(flags);
 }
 
+std::string default_socket_path() {
+  return ipc::socket_to_read(ipc::current_user_environment()).string();
+}
+
+std::string default_ring_name() {
+  return ipc::ring_to_read(ipc::current_user_environment());
+}
+
 Scan decode_compact(const void* bytes, std::size_t size) {
   if (bytes == nullptr && size != 0) throw Error(ErrorKind::InvalidArgument, "compact frame: null");
   try {
-    const auto received = ipc::socket::decode_compact_frame(
-        std::string_view(static_cast<const char*>(bytes), size));
+    const auto received =
+        ipc::socket::decode_compact_frame(std::string_view(static_cast<const char*>(bytes), size));
     return public_scan(received.scan, received.span);
   } catch (const core::Error& e) {
     throw Error(ErrorKind::BadData, e.what());

@@ -79,6 +79,13 @@ std::vector<std::string> flag_names(std::uint16_t flags);
 // Decodes one compact frame (docs/protocol.md, "Compact frames"). Throws Error (BadData).
 Scan decode_compact(const void* bytes, std::size_t size);
 
+// The socket and the ring a program reads when it names none, as `tofcomp query` and `tofcomp
+// shm-dump` choose them (docs/deployment.md, "As an ordinary user"): for a user other than root,
+// that user's own daemon's ($XDG_RUNTIME_DIR/tofcompd/tofcompd.sock, the ring /tofcompd.UID)
+// when it runs; the system's (TOFCOMP_DEFAULT_SOCKET_PATH, TOFCOMP_DEFAULT_RING_NAME) otherwise.
+std::string default_socket_path();
+std::string default_ring_name();
+
 class Connection {
  public:
   using Duration = std::chrono::milliseconds;
@@ -86,7 +93,7 @@ class Connection {
 
   // Connects and exchanges hello (both within timeout). Throws Error: Connect, ProtocolVersion
   // (naming the daemon's version and this library's), Timeout, Closed.
-  explicit Connection(const std::string& path = TOFCOMP_DEFAULT_SOCKET_PATH,
+  explicit Connection(const std::string& path = default_socket_path(),
                       Duration timeout = kDefaultTimeout);
   ~Connection();
   Connection(Connection&&) noexcept;
@@ -121,7 +128,7 @@ class Ring {
  public:
   // Opens the ring read-only, checking its owner (this user, root or tofcompd) and its header.
   // Throws Error (Ring) naming the ring and the reason. Reading starts at the next scan.
-  explicit Ring(const std::string& name = TOFCOMP_DEFAULT_RING_NAME);
+  explicit Ring(const std::string& name = default_ring_name());
   ~Ring();
   Ring(Ring&&) noexcept;
   Ring& operator=(Ring&&) noexcept;

@@ -100,7 +100,8 @@ const char* tofcomp_last_error(void);
 /* After TOFCOMP_ERR_DAEMON: the daemon's error code (bad_range, unavailable, forbidden, ...). */
 const char* tofcomp_last_daemon_code(void);
 
-/* Connects to the socket at path (NULL: TOFCOMP_DEFAULT_SOCKET_PATH) and exchanges hello: a
+/* Connects to the socket at path (NULL: the user's own daemon's when it runs, else
+ * TOFCOMP_DEFAULT_SOCKET_PATH, as `tofcomp query` chooses) and exchanges hello: a
  * daemon whose major protocol version differs is refused (TOFCOMP_ERR_PROTOCOL_VERSION, the
  * message naming both versions). timeout_ms bounds the connection and the hello. */
 int tofcomp_connect(const char* path, int timeout_ms, tofcomp_connection** out);
@@ -124,7 +125,8 @@ int tofcomp_call(tofcomp_connection* connection, const char* request_json, int t
                  char** reply_json);
 void tofcomp_free_string(char* text);
 
-/* Opens the shared-memory ring name (NULL: TOFCOMP_DEFAULT_RING_NAME) read-only, checking its
+/* Opens the shared-memory ring name (NULL: the user's own daemon's when it runs, else
+ * TOFCOMP_DEFAULT_RING_NAME) read-only, checking its
  * owner and header. Reading starts at the next scan published. */
 int tofcomp_ring_open(const char* name, tofcomp_ring** out);
 void tofcomp_ring_close(tofcomp_ring* ring);

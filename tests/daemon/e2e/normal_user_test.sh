@@ -5,7 +5,9 @@
 # being told where. Without $XDG_RUNTIME_DIR it uses /tmp/tofcompd-UID, and refuses that folder
 # when someone else put a symlink there. Run as root, the daemon runs as nobody (setpriv); run as
 # another user, as that user.
-# Usage: normal_user_test.sh TOFCOMPD TOFCOMP
+# With CLIENT_DIR (the build's client library folder), the Python client, run by that user
+# without a path, reads that user's daemon too.
+# Usage: normal_user_test.sh TOFCOMPD TOFCOMP [CLIENT_DIR]
 set -euo pipefail
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
@@ -18,6 +20,14 @@ mkdir -m 755 "$work/bin"
 install -m 755 "$1" "$2" "$work/bin/"
 cp -r "$(dirname "$1")/../share" "$work/"
 chmod -R a+rX "$work/share"
+client_dir=${3:-}
+if [ -n "$client_dir" ]; then
+  # The build tree's layout: the module in client/python/, its library in client/.
+  mkdir -p "$work/client/python"
+  cp "$client_dir/python/tofcomp_client.py" "$work/client/python/"
+  cp -P "$client_dir"/libtofcomp-client.so* "$work/client/"
+  chmod -R a+rX "$work/client"
+fi
 tofcompd="$work/bin/$(basename "$1")"
 tofcomp="$work/bin/$(basename "$2")"
 daemon=""
@@ -88,6 +98,16 @@ for _ in $(seq 100); do
   sleep 0.1
 done
 grep -q "/tofcompd.$uid" "$work/dump.txt" || { cat "$work/dump.txt" >&2; fail "shm-dump did not read /tofcompd.$uid"; }
+if [ -n "$client_dir" ]; then
+  as_user env -i PATH=/usr/bin:/bin XDG_RUNTIME_DIR="$runtime" PYTHONPATH="$work/client/python" \
+    python3 -c '
+import tofcomp_client
+with tofcomp_client.Connection() as daemon:
+    daemon.subscribe(beams=(180, 180), format="json")
+    print("python: beam", daemon.next_scan(timeout=30.0).beams[0].index)
+' > "$work/python.txt" 2>&1 || { cat "$work/python.txt" >&2; fail "the Python client without a path did not read the user's daemon"; }
+  grep -q "python: beam 180" "$work/python.txt" || { cat "$work/python.txt" >&2; fail "no scan in Python"; }
+fi
 stop_daemon
 
 # 2. Without it: /tmp/tofcompd-UID, made for the user alone.
