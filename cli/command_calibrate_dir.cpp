@@ -5,12 +5,12 @@
 // deploy (with the terms the search kept) and OUT/R.json everything of its training and search,
 // or its error. A table of the results goes to stdout, progress to stderr; the exit status is 1
 // when any recording could not be calibrated.
+#include <fmt/format.h>
+
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
-
-#include <fmt/format.h>
 
 #include "calibration/parallel_for.hpp"
 #include "calibration/recording_batch.hpp"
@@ -58,7 +58,8 @@ void register_calibrate_dir(CLI::App& app, const CommonOptions& common, CommandR
       ->check(CLI::ExistingDirectory);
   cmd->add_option("-o,--output-dir", o->output_directory,
                   "Directory for the calibrations and the per-recording JSON (created if missing)")
-      ->required();
+      ->required()
+      ->type_name("DIR");
   cmd->add_option("--beam", o->beam, "Beam index to analyse in every recording")
       ->capture_default_str();
   add_parallelism_option(*cmd, "-j,--jobs", o->jobs, "Recordings calibrated");
@@ -110,7 +111,8 @@ void register_calibrate_dir(CLI::App& app, const CommonOptions& common, CommandR
             nlohmann::json record =
                 recording_json(outcome, settings.search, calibration_file.string());
             try {
-              io::write_file_atomically(out_dir / (stem + ".json"), record.dump(kJsonIndent) + "\n");
+              io::write_file_atomically(out_dir / (stem + ".json"),
+                                        record.dump(kJsonIndent) + "\n");
             } catch (const core::Error& e) {
               record["status"] = "failed";
               record["error"] = fmt::format("writing {}.json: {}", stem, e.what());
@@ -129,8 +131,9 @@ void register_calibrate_dir(CLI::App& app, const CommonOptions& common, CommandR
             }
           });
 
-      const auto failed = static_cast<std::size_t>(std::count_if(
-          rows.begin(), rows.end(), [](const nlohmann::json& r) { return r["status"] == "failed"; }));
+      const auto failed = static_cast<std::size_t>(
+          std::count_if(rows.begin(), rows.end(),
+                        [](const nlohmann::json& r) { return r["status"] == "failed"; }));
       CommandResult result;
       result.json = {{"directory", o->directory},
                      {"output_dir", o->output_directory},

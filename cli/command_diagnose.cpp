@@ -36,7 +36,8 @@ struct SearchSettings {
 };
 
 // The paper's model the search started from, the smoothed junction temperature under it, and
-// the search; with the junction re-checked when training chose it (calibration/junction_recheck.hpp).
+// the search; with the junction re-checked when training chose it
+// (calibration/junction_recheck.hpp).
 struct Searched {
   core::Calibration calibration;
   calibration::SmoothedJunction junction;
@@ -58,8 +59,8 @@ Searched search_from(const calibration::MeasuredData& measured, const SearchSett
         calibration::junction_at_ranges(measured, c.thermal, c.kalman_noise, c.ambient_c);
     calibration::ModelSearchResult search =
         calibration::search_model(measured, c, junction, options, searching);
-    return {std::move(c), std::move(junction), std::nullopt, std::move(search), std::nullopt,
-            std::nullopt};
+    return {std::move(c),      std::move(junction), std::nullopt,
+            std::move(search), std::nullopt,        std::nullopt};
   }
   progress.update(0.0, "training the paper's model");
   calibration::TrainSettings settings = training;
@@ -72,8 +73,8 @@ Searched search_from(const calibration::MeasuredData& measured, const SearchSett
       measured, settings, options, std::move(trained_model),
       [&](double share, const std::string& stage) { progress.update(0.4 + 0.55 * share, stage); });
   return {std::move(trained.training.calibration), std::move(trained.training.junction),
-          std::move(trained.training.structure), std::move(trained.search),
-          std::move(trained.junction_recheck), std::move(trained.structure_recheck)};
+          std::move(trained.training.structure),   std::move(trained.search),
+          std::move(trained.junction_recheck),     std::move(trained.structure_recheck)};
 }
 
 // The grammar's covariates at each range and the base model's centred residual y − d − Hθ̂ − Σ π μ.
@@ -84,7 +85,8 @@ void write_covariates(const calibration::MeasuredData& measured, const Searched&
   const Eigen::VectorXd residual =
       (measured.range_mm - measured.true_range_mm - compensation.bias_mm).array() -
       base.calibration.model.mixture.mean_offset();
-  const core::CovariateTable covariates = calibration::covariate_table(measured, compensation.junction);
+  const core::CovariateTable covariates =
+      calibration::covariate_table(measured, compensation.junction);
   io::write_file_atomically(file, [&](std::ostream& out) {
     io::write_covariates_csv(out, measured.range_time_s, residual, covariates);
   });
@@ -109,11 +111,13 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
                          "Fits (the structure search's folds, the model search's candidates) run");
   cmd->add_option("--calibration-output", s->calibration_output,
                   "Write the calibration with the kept terms (for tofcomp test, replay and "
-                  "tofcompd); the trained one when the search kept nothing");
+                  "tofcompd); the trained one when the search kept nothing")
+      ->type_name("FILE");
   cmd->add_option("--covariates-output", s->covariates_output,
                   "Write the covariates the search tried at each range, with the trained model's "
                   "centred residual, as CSV (to plot one against the other; columns in "
-                  "docs/closing-the-loop.md)");
+                  "docs/closing-the-loop.md)")
+      ->type_name("FILE");
   auto report = add_report_options(*cmd);
   cmd->callback([&common, &run, data, training, s, search_options, report] {
     run = [&common, data, training, s, search_options, report] {
@@ -135,12 +139,10 @@ void register_diagnose(CLI::App& app, const CommonOptions& common, CommandRunner
                      {"named", kept_names(search)},
                      {"findings", to_json(tests)},
                      {"trained_model", trained_model_json(base.calibration, structure)},
-                     {"junction_recheck", base.junction_recheck
-                                              ? to_json(*base.junction_recheck)
-                                              : nlohmann::json(nullptr)},
-                     {"structure_recheck", base.structure_recheck
-                                               ? to_json(*base.structure_recheck)
-                                               : nlohmann::json(nullptr)}};
+                     {"junction_recheck", base.junction_recheck ? to_json(*base.junction_recheck)
+                                                                : nlohmann::json(nullptr)},
+                     {"structure_recheck", base.structure_recheck ? to_json(*base.structure_recheck)
+                                                                  : nlohmann::json(nullptr)}};
       result.text = search_text(search, options);
       if (base.junction_recheck) result.text += junction_recheck_text(*base.junction_recheck);
       if (base.structure_recheck) result.text += structure_recheck_text(*base.structure_recheck);

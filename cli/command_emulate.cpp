@@ -120,7 +120,8 @@ void register_emulate(CLI::App& app, const CommonOptions& common, CommandRunner&
                   "the device); the host must ask for the recorded variant")
       ->check(CLI::ExistingFile);
   cmd->add_option("--link", o->link,
-                  "Also publish the device at this path (a symlink, kept across hang-ups)");
+                  "Also publish the device at this path (a symlink, kept across hang-ups)")
+      ->type_name("PATH");
   cmd->add_option("--time-scale", o->time_scale,
                   "Twin seconds per wall second (1: real time; 0: as fast as the host reads)")
       ->check(at_least(0));

@@ -35,7 +35,8 @@ void register_evaluate(CLI::App& app, const CommonOptions& common, CommandRunner
       ->check(at_least(1));
   add_figures_option(*cmd, *figures);
   cmd->add_option("--calibration-output", *calibration_out,
-                  "Also write the calibration trained on the first part");
+                  "Also write the calibration trained on the first part")
+      ->type_name("FILE");
   cmd->callback([&common, &run, data, training, fraction, windows, stride, figures,
                  calibration_out] {
     run = [&common, data, training, fraction, windows, stride, figures, calibration_out] {

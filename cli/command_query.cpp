@@ -168,7 +168,8 @@ void register_query(CLI::App& app, const CommonOptions& common, CommandRunner& r
   auto* socket = cmd->add_option("--socket", o->socket,
                                  "tofcompd's socket; default: your own tofcompd's when it runs, "
                                  "the system's otherwise")
-                     ->capture_default_str();
+                     ->capture_default_str()
+                     ->type_name("PATH");
   cmd->add_option("-i,--instance", o->instance,
                   "The socket of tofcompd instance NAME (tofcompd@NAME.service): "
                   "/run/tofcompd/NAME/tofcompd.sock")

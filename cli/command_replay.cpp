@@ -85,20 +85,21 @@ CommandResult replay(const ReplayOptions& o, const CommonOptions& common) {
   double sum_abs_change = 0.0;
   std::uint64_t compensated = 0;
   std::vector<ReplayedRange> ranges;
-  realtime::replay_recording(
-      table, o.recording, pipeline,
-      [&](const realtime::RawScan& in, const ipc::CompensatedScan& s) {
-        ++scans;
-        for (std::size_t b = 0; b < s.beams.size(); ++b) {
-          if (in.no_echo[b]) continue;  // no row of the data gave this beam a range
-          const ipc::BeamValue& v = s.beams[b];
-          if (std::isfinite(v.compensated_mm)) {
-            sum_abs_change += std::abs(v.compensated_mm - v.raw_mm);
-            ++compensated;
-          }
-          if (!o.output.empty()) ranges.push_back({in.time_s, b, in.ranges_mm[b], v, s.sequence});
-        }
-      });
+  realtime::replay_recording(table, o.recording, pipeline,
+                             [&](const realtime::RawScan& in, const ipc::CompensatedScan& s) {
+                               ++scans;
+                               for (std::size_t b = 0; b < s.beams.size(); ++b) {
+                                 if (in.no_echo[b])
+                                   continue;  // no row of the data gave this beam a range
+                                 const ipc::BeamValue& v = s.beams[b];
+                                 if (std::isfinite(v.compensated_mm)) {
+                                   sum_abs_change += std::abs(v.compensated_mm - v.raw_mm);
+                                   ++compensated;
+                                 }
+                                 if (!o.output.empty())
+                                   ranges.push_back({in.time_s, b, in.ranges_mm[b], v, s.sequence});
+                               }
+                             });
   if (!o.output.empty()) {
     const std::vector<std::string> still = still_column(ranges, pipeline.calibration());
     std::ofstream out(o.output);
@@ -156,7 +157,8 @@ void register_replay(CLI::App& app, const CommonOptions& common, CommandRunner& 
   cmd->add_option("-o,--output", o->output,
                   "Write every range as CSV: time_s, beam, range_mm, compensated_mm, window_mm, "
                   "window_std_mm, still (1 on a still surface of its beam, 0 set apart; empty "
-                  "without a calibration), flags, sequence, mode");
+                  "without a calibration), flags, sequence, mode")
+      ->type_name("FILE");
   cmd->callback([&common, &run, o] { run = [&common, o] { return replay(*o, common); }; });
 }
 

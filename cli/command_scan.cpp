@@ -115,9 +115,11 @@ void register_scan(CLI::App& app, const CommonOptions& common, CommandRunner& ru
       ->check(CLI::IsMember({9600u, 19200u, 38400u, 500000u}))
       ->capture_default_str();
   cmd->add_option("--variant", o->variant, "Field and resolution in degrees")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->type_name("FIELD:STEP");
   cmd->add_option("--units", o->units, "Range units: mm (8 m mode) or cm (80 m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->type_name("UNITS");
   cmd->add_option("-n,--count", o->count, "Scans to print")
       ->check(at_least(1))
       ->capture_default_str();

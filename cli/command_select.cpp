@@ -22,8 +22,9 @@ void register_select(CLI::App& app, const CommonOptions& common, CommandRunner& 
   auto modes = std::make_shared<int>(2);
   cmd->add_option("--candidates", *candidates,
                   "Candidate bases; kind:LO..HI expands to one per order")
-      ->capture_default_str();
-  cmd->add_option("--modes", *modes, "Lasing modes M")->capture_default_str();
+      ->capture_default_str()
+      ->type_name("BASES");
+  cmd->add_option("--modes", *modes, "Lasing modes M")->capture_default_str()->type_name("M");
   cmd->callback([&common, &run, data, thermal, candidates, modes] {
     run = [&common, data, thermal, candidates, modes] {
       Progress progress("select", !common.quiet);

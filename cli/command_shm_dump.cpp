@@ -264,7 +264,8 @@ void register_shm_dump(CLI::App& app, const CommonOptions& common, CommandRunner
                 "document at the end)");
   cmd->add_option("--owner", o->owners,
                   "A user whose rings are read (name or uid; repeatable). Default: you, root and "
-                  "tofcompd; a ring of anyone else is refused");
+                  "tofcompd; a ring of anyone else is refused")
+      ->type_name("USER");
   cmd->add_option("-n,--count", o->count,
                   "Scans to print: without --follow the newest N still in the ring")
       ->check(at_least(1));

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <iostream>
 
-#include "core/error.hpp"
 #include "cli/command.hpp"
 #include "cli/progress.hpp"
+#include "core/error.hpp"
 #include "sim/scenario_yaml.hpp"
 #include "sim/twin_csv.hpp"
 
@@ -21,7 +21,7 @@ void register_simulate(CLI::App& app, const CommonOptions& common, CommandRunner
   cmd->add_option("scenario", *scenario, "Scenario YAML file")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", *output, "CSV file to write (default: stdout)");
+  cmd->add_option("-o,--output", *output, "CSV file to write (default: stdout)")->type_name("FILE");
   cmd->callback([&common, &run, scenario, output] {
     run = [&common, scenario, output] {
       const bool to_stdout = output->empty();
@@ -59,8 +59,9 @@ void register_simulate(CLI::App& app, const CommonOptions& common, CommandRunner
       std::snprintf(text, sizeof text,
                     "wrote %s: %zu ranges, %zu case readings, %zu power changes over %.0f s "
                     "(junction %.2f-%.2f °C; %d no-echo readings not recorded)\n",
-                    to_stdout ? "stdout" : output->c_str(), series.ranges.size(), series.temperatures.size(),
-                    series.power_changes.size(), s.duration_s(), lo, hi, series.no_echo_count);
+                    to_stdout ? "stdout" : output->c_str(), series.ranges.size(),
+                    series.temperatures.size(), series.power_changes.size(), s.duration_s(), lo, hi,
+                    series.no_echo_count);
       result.text = text;
       if (to_stdout) {
         // stdout holds the CSV: the summary goes with the progress.

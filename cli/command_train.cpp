@@ -24,8 +24,8 @@ namespace tofcomp::cli {
 namespace {
 
 struct FieldOptions {
-  std::string bench;               // --calibration
-  std::vector<std::string> more;   // records after DATA
+  std::string bench;              // --calibration
+  std::vector<std::string> more;  // records after DATA
 };
 
 bool has_reference(const io::MeasurementTable& table) {
@@ -70,10 +70,11 @@ void refuse_one_beam_options(const DataOptions& data, const TrainingOptions& tra
   std::string names;
   for (const auto& g : given) names += (names.empty() ? "" : ", ") + g;
   throw core::InvalidInput(
-      names + ": field training (several records, --calibration, or a record without a "
-              "reference distance) uses every beam of each record, chooses the basis over the "
-              "records' temperatures and takes the modes from the bench calibration; these "
-              "apply to training one beam with a reference");
+      names +
+      ": field training (several records, --calibration, or a record without a "
+      "reference distance) uses every beam of each record, chooses the basis over the "
+      "records' temperatures and takes the modes from the bench calibration; these "
+      "apply to training one beam with a reference");
 }
 
 }  // namespace
@@ -87,8 +88,7 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
       "it as a calibration file");
   auto data = add_data_options(*cmd);
   auto field = std::make_shared<FieldOptions>();
-  cmd->add_option("more", field->more,
-                  "More records: field training on every beam of each")
+  cmd->add_option("more", field->more, "More records: field training on every beam of each")
       ->check(CLI::ExistingFile);
   cmd->add_option("--calibration", field->bench,
                   "Bench calibration (from tofcomp train on a record with a reference): field "
@@ -98,10 +98,11 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
       ->check(CLI::ExistingFile);
   auto training = add_training_options(*cmd);
   auto output = std::make_shared<std::string>();
-  cmd->add_option("-o,--output", *output, "Calibration file to write (YAML)")->required();
+  cmd->add_option("-o,--output", *output, "Calibration file to write (YAML)")
+      ->required()
+      ->type_name("FILE");
   auto threads = std::make_shared<int>(0);
-  add_parallelism_option(*cmd, "--threads", *threads,
-                         "Fits (the structure search's folds) run");
+  add_parallelism_option(*cmd, "--threads", *threads, "Fits (the structure search's folds) run");
   cmd->callback([&common, &run, data, field, training, output, threads] {
     run = [&common, data, field, training, output, threads] {
       Progress progress("train", !common.quiet);
@@ -128,9 +129,10 @@ void register_train(CLI::App& app, const CommonOptions& common, CommandRunner& r
       CommandResult result;
       result.json = training_json(t);
       result.json["output"] = *output;
-      result.text = thermal_fit_text(t.thermal) + choices_text(t) + calibration_text(t.calibration) +
-                    "EM: " + std::to_string(t.em.iterations) + " iterations" +
-                    (t.em.converged ? "" : " (cap reached)") + "\nwrote " + *output + "\n";
+      result.text = thermal_fit_text(t.thermal) + choices_text(t) +
+                    calibration_text(t.calibration) + "EM: " + std::to_string(t.em.iterations) +
+                    " iterations" + (t.em.converged ? "" : " (cap reached)") + "\nwrote " +
+                    *output + "\n";
       return result;
     };
   });

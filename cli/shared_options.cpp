@@ -116,7 +116,8 @@ std::shared_ptr<ThermalOptions> add_thermal_options(CLI::App& cmd) {
                      "prediction-error method (the others fixed at Algorithm 1's values; it "
                      "refuses a log that does not determine them). Without it every parameter is "
                      "fitted with the datasheet as a prior")
-          ->capture_default_str();
+          ->capture_default_str()
+          ->type_name("PARAMETERS");
   cmd.add_option("--ambient", o->ambient_c, "Ambient °C when the data carry no ambient_c")
       ->capture_default_str();
   cmd.add_option("--kalman-noise", o->kalman_noise_levels,
@@ -165,11 +166,13 @@ std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd) {
   cmd.add_option("--basis", o->basis,
                  "H(.): polynomial:N[:legendre|raw], fourier:N:F0, joined by +; auto: the family "
                  "and order that predict held-out ranges best (§7)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->type_name("BASIS");
   cmd.add_option("--modes", o->modes,
                  "Lasing modes M (1-" + std::to_string(kMaxModes) +
                      "); auto: the number that predicts held-out ranges best")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->type_name("M");
   cmd.add_flag("--paper-m-step", o->paper_m_step, "Use Eq. 19 as printed (docs/em-m-step.md)");
   cmd.add_flag("--paper-init", o->paper_init,
                "Start from Eq. 20 (two modes only: --modes defaults to 2 with it)");
@@ -181,7 +184,8 @@ std::shared_ptr<TrainingOptions> add_training_options(CLI::App& cmd) {
                  "shows: ranges (from the ranges' likelihood under the datasheet's prior, where "
                  "it rejects the thermal fit's) or case-log (the thermal fit's alone)")
       ->capture_default_str()
-      ->check(CLI::IsMember({kJunctionFromRanges, kJunctionFromCaseLog}));
+      ->check(CLI::IsMember({kJunctionFromRanges, kJunctionFromCaseLog}))
+      ->type_name("FROM");
   return o;
 }
 
