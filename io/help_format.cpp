@@ -57,6 +57,21 @@ std::string names(const std::set<CLI::Option*>& options) {
   return out;
 }
 
+// A line of the help: `name` in the left column, `description` beside it (under it when the name
+// reaches the column), wrapped to the width.
+std::string two_columns(const std::string& name, const std::string& description) {
+  std::string out = name;
+  if (!description.empty()) {
+    if (columns(name) + 1 > kHelpOptionColumn) {
+      out += "\n" + std::string(kHelpOptionColumn, ' ');
+    } else {
+      out += std::string(kHelpOptionColumn - columns(name), ' ');
+    }
+    out += wrap_text(description, kHelpWidth - kHelpOptionColumn, kHelpOptionColumn);
+  }
+  return out + "\n";
+}
+
 }  // namespace
 
 std::string value_name(const CLI::Option& opt) {
@@ -153,33 +168,13 @@ std::string GnuHelpFormatter::make_option_desc(const CLI::Option* opt) const {
   return out;
 }
 
-// The name in the left column, the description beside it (or under it when the name reaches the
-// column), wrapped to the width.
 std::string GnuHelpFormatter::make_option(const CLI::Option* opt, bool is_positional) const {
-  const std::string name = "  " + make_option_name(opt, is_positional) + make_option_opts(opt);
-  const std::string description = make_option_desc(opt);
-  std::string out = name;
-  if (!description.empty()) {
-    if (columns(name) + 1 > kHelpOptionColumn) {
-      out += "\n" + std::string(kHelpOptionColumn, ' ');
-    } else {
-      out += std::string(kHelpOptionColumn - columns(name), ' ');
-    }
-    out += wrap_text(description, kHelpWidth - kHelpOptionColumn, kHelpOptionColumn);
-  }
-  return out + "\n";
+  return two_columns("  " + make_option_name(opt, is_positional) + make_option_opts(opt),
+                     make_option_desc(opt));
 }
 
 std::string GnuHelpFormatter::make_subcommand(const CLI::App* sub) const {
-  const std::string name = "  " + sub->get_display_name(true);
-  std::string out = name;
-  if (columns(name) + 1 > kHelpOptionColumn) {
-    out += "\n" + std::string(kHelpOptionColumn, ' ');
-  } else {
-    out += std::string(kHelpOptionColumn - columns(name), ' ');
-  }
-  out += wrap_text(sub->get_description(), kHelpWidth - kHelpOptionColumn, kHelpOptionColumn);
-  return out + "\n";
+  return two_columns("  " + sub->get_display_name(true), sub->get_description());
 }
 
 std::string GnuHelpFormatter::make_description(const CLI::App* app) const {

@@ -107,6 +107,8 @@ class SocketServer::Impl final : public ClientConnection::Owner,
 
   void start();
   void serve_activated_listener(int listener);
+  // From here the acceptor's connections are taken; logs `message`.
+  void begin_accepting(const std::string& message);
   void stop();
   void publish(const ipc::CompensatedScan& scan);
   SocketServerCounters counters() const;
@@ -213,9 +215,7 @@ void SocketServer::Impl::start() {
     }
     ::unlink(hidden.c_str());
   }
-  running_ = true;
-  asio::co_spawn(io_, accept_loop(shared_from_this(), ++generation_), asio::detached);
-  log(SocketLogLevel::Info, "listening on " + path);
+  begin_accepting("listening on " + path);
 }
 
 void SocketServer::Impl::serve_activated_listener(int listener) {
@@ -232,10 +232,13 @@ void SocketServer::Impl::serve_activated_listener(int listener) {
     throw core::Error("cannot serve the socket the service manager passed for " + settings_.path +
                       ": " + ec.message());
   }
+  begin_accepting("listening on " + settings_.path + ", the socket the service manager passed");
+}
+
+void SocketServer::Impl::begin_accepting(const std::string& message) {
   running_ = true;
   asio::co_spawn(io_, accept_loop(shared_from_this(), ++generation_), asio::detached);
-  log(SocketLogLevel::Info,
-      "listening on " + settings_.path + ", the socket the service manager passed");
+  log(SocketLogLevel::Info, message);
 }
 
 void SocketServer::Impl::stop() {
